@@ -1,0 +1,35 @@
+"""Exceptions and input checks shared by the whole library.
+
+Every check raises before any work starts, with a one-line message naming
+the offending quantity and what is allowed.
+"""
+
+from __future__ import annotations
+
+import math
+
+
+class NonPhysicalProfile(ValueError):
+    """The requested three-phase profile has no real solution (the paper's case 0)."""
+
+
+class SceneError(ValueError):
+    """A scene file or Scene object is invalid; the message names file and key."""
+
+
+def check_finite(name: str, value) -> float:
+    """Return ``value`` as a float, or raise naming ``name`` if it is not a finite number."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)) and not hasattr(value, "__float__"):
+        raise ValueError(f"{name} must be a finite number, got {value!r}")
+    value = float(value)
+    if not math.isfinite(value):
+        raise ValueError(f"{name} must be a finite number, got {value!r}")
+    return value
+
+
+def check_positive(name: str, value) -> float:
+    """Return ``value`` as a float, or raise unless it is finite and > 0."""
+    value = check_finite(name, value)
+    if value <= 0.0:
+        raise ValueError(f"{name} must be > 0, got {value!r}")
+    return value

@@ -1,0 +1,326 @@
+"""Periodic table-motion profiles y(t) (Sect. 4.4 and the Appendix).
+
+Every profile is periodic with period ``dt`` and exposes vectorised
+``position``, ``velocity`` and ``acceleration``.  Profiles whose acceleration
+is piecewise constant (the three-phase profile of Sect. 4.4.3 and the
+second-order polynomial profile of Sect. 4.2) share one representation,
+:class:`PiecewiseConstantProfile`, which the exact solver integrates in
+closed form.  The Fourier profile of Sect. 4.4.2 is smooth.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import NonPhysicalProfile, check_finite, check_positive
+
+
+class Profile:
+    """Base class: a periodic table displacement y(t) with period ``dt``."""
+
+    dt: float
+    kind: str = "profile"
+    #: True when y'' is constant between the times of ``switch_times``.
+    piecewise_constant: bool = False
+
+    def phase(self, t):
+        """Time within the period, in [0, dt)."""
+        tau = np.mod(np.asarray(t, dtype=float), self.dt)
+        return np.where(tau >= self.dt, 0.0, tau)
+
+    @property
+    def max_abs_acceleration(self) -> float:
+        raise NotImplementedError
+
+    def params(self) -> dict:
+        """The defining parameters (stored as HDF5 attributes)."""
+        raise NotImplementedError
+
+
+class PiecewiseConstantProfile(Profile):
+    """A periodic y(t) made of second-order polynomial pieces.
+
+    Piece ``i`` spans ``[breaks[i], breaks[i+1])`` of the period and has
+    constant table acceleration ``accels[i]``; ``y_start``, ``yd_start`` are
+    y and y' at t = 0.  Pieces of zero length are dropped so that the
+    solvers never see an empty interval.
+    """
+
+    piecewise_constant = True
+
+    def __init__(self, breaks, accels, y_start: float, yd_start: float):
+        breaks = np.asarray(breaks, dtype=float)
+        accels = np.asarray(accels, dtype=float)
+        if breaks.ndim != 1 or accels.shape != (breaks.size - 1,):
+            raise ValueError("breaks must have one entry more than accels")
+        keep = np.diff(breaks) > 0
+        self.breaks = np.concatenate([breaks[:1], breaks[1:][keep]])
+        self.accels = accels[keep]
+        self.dt = float(self.breaks[-1] - self.breaks[0])
+        lengths = np.diff(self.breaks)
+        # y' and y at the start of every piece (and at the end of the period).
+        vel = yd_start + np.concatenate([[0.0], np.cumsum(self.accels * lengths)])
+        pos = y_start + np.concatenate(
+            [[0.0], np.cumsum(vel[:-1] * lengths + 0.5 * self.accels * lengths**2)]
+        )
+        self.piece_velocity = vel
+        self.piece_position = pos
+
+    @property
+    def switch_times(self) -> np.ndarray:
+        """Times within [0, dt) at which y'' jumps (piece starts after the first)."""
+        return self.breaks[1:-1].copy()
+
+    @property
+    def max_abs_acceleration(self) -> float:
+        return float(np.max(np.abs(self.accels)))
+
+    def piece_index(self, tau):
+        """Index of the piece holding phase ``tau`` (right-continuous)."""
+        idx = np.searchsorted(self.breaks, tau, side="right") - 1
+        return np.clip(idx, 0, self.accels.size - 1)
+
+    def _evaluate(self, t):
+        tau = self.phase(t)
+        i = self.piece_index(tau)
+        return tau - self.breaks[i], i
+
+    def position(self, t):
+        s, i = self._evaluate(t)
+        return self.piece_position[i] + self.piece_velocity[i] * s + 0.5 * self.accels[i] * s**2
+
+    def velocity(self, t):
+        s, i = self._evaluate(t)
+        return self.piece_velocity[i] + self.accels[i] * s
+
+    def acceleration(self, t):
+        _, i = self._evaluate(t)
+        return self.accels[i] + 0.0 * np.asarray(t, dtype=float)
+
+    def params(self) -> dict:
+        return {"kind": self.kind, "dt": self.dt, "breaks": self.breaks.tolist(),
+                "accels": self.accels.tolist()}
+
+
+@dataclass(frozen=True)
+class ThreePhaseTimes:
+    """Closed-form solution of the Appendix constraints (vectorised)."""
+
+    t1: np.ndarray
+    t2: np.ndarray
+    t3: np.ndarray
+    y_ini: np.ndarray
+    yd_ini: np.ndarray
+    t_top: np.ndarray      # t_{y'=0,1}: y' crosses zero downwards, y = dy (maximum)
+    t_bottom: np.ndarray   # t_{y'=0,2}: y' crosses zero upwards, y = 0 (minimum)
+    feasible: np.ndarray   # False for the paper's "case 0"
+
+
+def three_phase_feasibility(dt, dy, y2, y3):
+    """q = sqrt(8 dy (1/y2 + 1/y3)) / dt; a physical profile exists iff q <= 1."""
+    k = 1.0 / np.asarray(y2, dtype=float) + 1.0 / np.asarray(y3, dtype=float)
+    return np.sqrt(8.0 * np.asarray(dy, dtype=float) * k) / np.asarray(dt, dtype=float)
+
+
+def three_phase_times(dt, dy, y2, y3) -> ThreePhaseTimes:
+    """Solve the seven Appendix constraints (Sect. 4.4.3) in closed form.
+
+    Derivation (documented in the README): let u = y2 (t2 - t1) = y3 (t3 - t2)
+    be the velocity swing (eq. 63) and k = 1/y2 + 1/y3, so t3 - t1 = u k.
+    Zero mean velocity (periodic position, eq. 64) gives y'_ini = u^2 k / (2 dt),
+    and the stroke condition (eq. 62) gives (u - y'_ini)^2 k / 2 = dy.  With
+    q = sqrt(8 dy k) / dt and r = sqrt(1 - q) the admissible root is
+    u = dt (1 - r) / k, so that
+
+        t1 = dt r,   y'_ini = dt (1 - r)^2 / (2 k),   y_ini = y'_ini^2 / (2 y3).
+
+    No cancellation occurs anywhere.  Because y'' has zero mean and the table
+    first decelerates, y'_ini > 0 always: the Appendix's "second case"
+    y'_ini < 0 cannot occur.  Case 0 is q > 1 (complex r).
+    Inputs broadcast; infeasible entries are NaN.
+    """
+    dt, dy, y2, y3 = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (dt, dy, y2, y3)))
+    k = 1.0 / y2 + 1.0 / y3
+    q = np.sqrt(8.0 * dy * k) / dt
+    feasible = q <= 1.0
+    with np.errstate(invalid="ignore"):
+        r = np.sqrt(np.where(feasible, 1.0 - q, np.nan))
+    swing = dt * (1.0 - r) / k
+    t1 = dt * r
+    t2 = t1 + swing / y2
+    t3 = dt + 0.0 * t1
+    yd_ini = swing * swing * k / (2.0 * dt)
+    y_ini = yd_ini**2 / (2.0 * y3)
+    return ThreePhaseTimes(t1=t1, t2=t2, t3=np.where(feasible, t3, np.nan), y_ini=y_ini,
+                           yd_ini=yd_ini, t_top=t1 + yd_ini / y2, t_bottom=t3 - yd_ini / y3,
+                           feasible=feasible)
+
+
+class ThreePhaseProfile(PiecewiseConstantProfile):
+    """Three constant-acceleration intervals (Fig. 7): 0 on [0, t1), -y2 on
+    [t1, t2), +y3 on [t2, t3 = dt).  ``y2`` and ``y3`` are positive magnitudes.
+    """
+
+    kind = "three_phase"
+
+    def __init__(self, dt: float, dy: float, y2: float, y3: float):
+        for name, value in (("dt", dt), ("dy", dy), ("y2", y2), ("y3", y3)):
+            check_positive(name, value)
+        q = float(three_phase_feasibility(dt, dy, y2, y3))
+        if q > 1.0:
+            raise NonPhysicalProfile(
+                f"no physical three-phase profile (case 0): 8*dy*(1/y2 + 1/y3) = "
+                f"{8 * dy * (1 / y2 + 1 / y3):.6g} exceeds dt^2 = {dt * dt:.6g}; "
+                f"need dy <= dt^2 / (8 (1/y2 + 1/y3)) = {dt * dt / (8 * (1 / y2 + 1 / y3)):.6g}"
+            )
+        sol = three_phase_times(dt, dy, y2, y3)
+        self.dy, self.y2, self.y3 = float(dy), float(y2), float(y3)
+        self.t0 = 0.0
+        self.t1, self.t2, self.t3 = float(sol.t1), float(sol.t2), float(dt)
+        self.y_ini, self.yd_ini = float(sol.y_ini), float(sol.yd_ini)
+        self.t_top, self.t_bottom = float(sol.t_top), float(sol.t_bottom)
+        super().__init__([0.0, self.t1, self.t2, self.t3], [0.0, -self.y2, self.y3],
+                         self.y_ini, self.yd_ini)
+        self.dt = float(dt)
+
+    @property
+    def feasibility(self) -> float:
+        """q of :func:`three_phase_feasibility`; case 0 is q > 1."""
+        return float(three_phase_feasibility(self.dt, self.dy, self.y2, self.y3))
+
+    def params(self) -> dict:
+        return {"kind": self.kind, "dt": self.dt, "dy": self.dy, "y2": self.y2, "y3": self.y3,
+                "t1": self.t1, "t2": self.t2, "t3": self.t3, "y_ini": self.y_ini,
+                "yd_ini": self.yd_ini}
+
+    def __repr__(self):
+        return f"ThreePhaseProfile(dt={self.dt!r}, dy={self.dy!r}, y2={self.y2!r}, y3={self.y3!r})"
+
+
+class PolynomialProfile(PiecewiseConstantProfile):
+    """The second-order polynomial profile of Sect. 4.2 (Fig. 3).
+
+    The paper only sketches it; our definition: a slow forward stroke of
+    duration ``forward_fraction * dt`` and a fast return stroke, each made of
+    two parabolas (accelerate, then decelerate with equal magnitude), so y'
+    is continuous and zero at the stroke ends.  Stroke ``dy`` is exact, y has
+    zero mean over a period (y runs from -dy/2 to +dy/2) and is periodic.
+    Accelerations: +-4 dy / (f dt)^2 forward, -+4 dy / ((1 - f) dt)^2 back.
+    """
+
+    kind = "polynomial"
+
+    def __init__(self, dt: float, dy: float, forward_fraction: float = 0.8):
+        check_positive("dt", dt)
+        check_positive("dy", dy)
+        check_finite("forward_fraction", forward_fraction)
+        if not 0.0 < forward_fraction < 1.0:
+            raise ValueError(f"forward_fraction must lie in (0, 1), got {forward_fraction!r}")
+        self.dy, self.forward_fraction = float(dy), float(forward_fraction)
+        t_fwd = forward_fraction * dt
+        t_back = dt - t_fwd
+        a_fwd = 4.0 * dy / t_fwd**2
+        a_back = 4.0 * dy / t_back**2
+        breaks = [0.0, t_fwd / 2, t_fwd, t_fwd + t_back / 2, dt]
+        super().__init__(breaks, [a_fwd, -a_fwd, -a_back, a_back], -dy / 2.0, 0.0)
+        self.dt = float(dt)
+
+    def params(self) -> dict:
+        return {"kind": self.kind, "dt": self.dt, "dy": self.dy,
+                "forward_fraction": self.forward_fraction}
+
+    def __repr__(self):
+        return (f"PolynomialProfile(dt={self.dt!r}, dy={self.dy!r}, "
+                f"forward_fraction={self.forward_fraction!r})")
+
+
+class FourierProfile(Profile):
+    """y(t) = sum_k a_k cos(2 pi k t / dt) + b_k sin(2 pi k t / dt), k = 1..N (Sect. 4.4.2).
+
+    Zero mean by construction.  ``stroke``, ``peak_velocity`` and
+    ``peak_acceleration`` are the constraint quantities of the shape
+    optimisation, evaluated on a fine grid refined by Newton steps.
+    """
+
+    kind = "fourier"
+
+    def __init__(self, dt: float, cos_coeffs, sin_coeffs):
+        check_positive("dt", dt)
+        self.dt = float(dt)
+        self.cos_coeffs = np.asarray(cos_coeffs, dtype=float)
+        self.sin_coeffs = np.asarray(sin_coeffs, dtype=float)
+        if self.cos_coeffs.shape != self.sin_coeffs.shape or self.cos_coeffs.ndim != 1:
+            raise ValueError("cos_coeffs and sin_coeffs must be 1-D arrays of equal length")
+        if not (np.all(np.isfinite(self.cos_coeffs)) and np.all(np.isfinite(self.sin_coeffs))):
+            raise ValueError("Fourier coefficients must be finite")
+        self.order = self.cos_coeffs.size
+        self.omega = 2.0 * np.pi * np.arange(1, self.order + 1) / self.dt
+
+    switch_times = np.empty(0)
+
+    def _derivative(self, t, n: int):
+        """n-th time derivative of y at t (vectorised)."""
+        t = np.asarray(t, dtype=float)
+        arg = np.multiply.outer(t, self.omega)
+        scale = self.omega**n
+        # d^n/dt^n cos = omega^n cos(arg + n pi/2); same shift for sin.
+        shift = n * np.pi / 2
+        return (np.cos(arg + shift) @ (self.cos_coeffs * scale)
+                + np.sin(arg + shift) @ (self.sin_coeffs * scale))
+
+    def position(self, t):
+        return self._derivative(t, 0)
+
+    def velocity(self, t):
+        return self._derivative(t, 1)
+
+    def acceleration(self, t):
+        return self._derivative(t, 2)
+
+    def _extremes(self, n: int) -> tuple[float, float]:
+        samples = 64 * self.order + 64
+        grid = np.linspace(0.0, self.dt, samples, endpoint=False)
+        values = self._derivative(grid, n)
+        results = []
+        for idx in (np.argmin(values), np.argmax(values)):
+            t = grid[idx]
+            for _ in range(20):  # Newton on the derivative of the n-th derivative
+                d1 = self._derivative(t, n + 1)
+                d2 = self._derivative(t, n + 2)
+                if d2 == 0:
+                    break
+                step = d1 / d2
+                t = t - np.clip(step, -self.dt / samples, self.dt / samples)
+                if abs(step) < 1e-15 * self.dt:
+                    break
+            results.append(float(self._derivative(t, n)))
+        return min(results[0], values.min()), max(results[1], values.max())
+
+    @property
+    def stroke(self) -> float:
+        lo, hi = self._extremes(0)
+        return hi - lo
+
+    @property
+    def peak_velocity(self) -> float:
+        lo, hi = self._extremes(1)
+        return max(-lo, hi)
+
+    @property
+    def peak_acceleration(self) -> float:
+        lo, hi = self._extremes(2)
+        return max(-lo, hi)
+
+    @property
+    def max_abs_acceleration(self) -> float:
+        return self.peak_acceleration
+
+    def params(self) -> dict:
+        return {"kind": self.kind, "dt": self.dt, "cos_coeffs": self.cos_coeffs.tolist(),
+                "sin_coeffs": self.sin_coeffs.tolist()}
+
+    def __repr__(self):
+        return f"FourierProfile(dt={self.dt!r}, order={self.order})"

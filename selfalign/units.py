@@ -1,0 +1,52 @@
+"""Conversion between SI units and the dimensionless model of Sect. 3.2.
+
+With a characteristic length L and T = sqrt(L / (mu g)) (Sect. 3.2):
+x = x~ / L, t = t~ / T, so velocities scale by L / T and accelerations by
+L / T^2 = mu g.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from .errors import check_positive
+
+
+@dataclass(frozen=True)
+class SIScale:
+    """Friction coefficient ``mu``, gravity ``g`` [m/s^2] and length scale ``L`` [m]."""
+
+    mu: float
+    g: float
+    L: float
+
+    def __post_init__(self):
+        for name in ("mu", "g", "L"):
+            check_positive(f"si.{name}", getattr(self, name))
+
+    @property
+    def T(self) -> float:
+        """Characteristic time sqrt(L / (mu g)) [s]."""
+        return math.sqrt(self.L / (self.mu * self.g))
+
+    #: dimension exponents (length, time) of each kind of quantity
+    DIMENSIONS = {"length": (1, 0), "time": (0, 1), "velocity": (1, -1),
+                  "acceleration": (1, -2), "dimensionless": (0, 0)}
+
+    def unit(self, kind: str) -> float:
+        """The SI value of one dimensionless unit of ``kind``."""
+        try:
+            length, time = self.DIMENSIONS[kind]
+        except KeyError:
+            raise ValueError(f"unknown quantity kind {kind!r}; allowed: {sorted(self.DIMENSIONS)}") from None
+        return self.L**length * self.T**time
+
+    def to_dimensionless(self, value, kind: str):
+        return value / self.unit(kind)
+
+    def to_si(self, value, kind: str):
+        return value * self.unit(kind)
+
+    def params(self) -> dict:
+        return {"mu": self.mu, "g": self.g, "L": self.L, "T": self.T}
