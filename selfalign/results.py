@@ -1,0 +1,208 @@
+"""HDF5 result files, written atomically and reproducibly.
+
+A pipeline that is interrupted (killed job, full disk, exception in a
+writer) must never leave a half-written output behind, or Snakemake and a
+later reader would take it for a finished result.  Every file therefore goes
+through :func:`atomic_path`: it is written under a hidden temporary name in
+the destination directory, flushed to disk, and only then renamed over the
+destination in one step.  The helper is generic so that figures and rerun
+recordings use the same guarantee.
+
+:func:`write_h5` also makes its output byte-for-byte deterministic (HDF5
+object timestamps are switched off), so that re-running a step with the same
+inputs yields an identical file and content hashes stay meaningful.
+
+Attribute encoding
+------------------
+Numbers, strings, bools and non-empty lists of numbers (all ints that fit in
+int64, or all floats) are stored as native HDF5 attributes.  Anything else —
+dicts, ``None``, empty, nested or mixed lists — is stored as a string
+``"json:" + json.dumps(value)``.  A genuine string that starts with
+``"json:"`` is JSON-encoded too, so :func:`read_h5` can decode every
+attribute back unambiguously, and so is one holding a NUL character, which
+HDF5 strings cannot.  Read-back values are plain Python objects
+(``int``, ``float``, ``bool``, ``str``, ``list``, ``dict``, ``None``); tuples
+and numpy arrays come back as lists.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import secrets
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from pathlib import Path
+
+import h5py
+import numpy as np
+
+#: Prefix of attribute strings that hold a JSON-encoded value.
+JSON_PREFIX = "json:"
+#: Root attribute stamped on every file by :func:`write_h5`.
+VERSION_ATTR = "selfalign_version"
+
+_INT64 = np.iinfo(np.int64)
+_GROUP_KEYS = {"datasets", "attrs", "groups"}
+
+
+@contextmanager
+def atomic_path(path) -> Iterator[Path]:
+    """Yield a temporary path to write ``path``'s content to.
+
+    On normal exit the temporary file is fsynced and renamed onto ``path``
+    (replacing any existing file in one step); on any exception it is
+    removed and ``path`` is left untouched.  The temporary file lives in the
+    same directory (a rename across file systems would not be atomic), is
+    hidden (starts with ".") and ends in ".tmp" so that no glob for real
+    outputs matches it.  Writers that pick a format from the file extension
+    (e.g. ``Figure.savefig``) must be told the format explicitly.  Missing
+    parent directories are created.
+    """
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.parent / f".{path.name}.{secrets.token_hex(6)}.tmp"
+    try:
+        yield tmp
+        _fsync(tmp)
+        os.replace(tmp, path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+    _fsync(path.parent)
+
+
+def atomic_write(path, writer: Callable[[Path], object]) -> Path:
+    """Call ``writer(tmp)`` to write a file, then move it to ``path`` atomically."""
+    with atomic_path(path) as tmp:
+        writer(tmp)
+    return Path(path)
+
+
+def _fsync(path: Path) -> None:
+    """Flush ``path`` (a file or, for the rename itself, a directory) to disk."""
+    fd = os.open(path, os.O_RDONLY)
+    try:
+        os.fsync(fd)
+    finally:
+        os.close(fd)
+
+
+def write_h5(path, datasets: dict, attrs: dict | None = None,
+             groups: dict[str, dict] | None = None) -> Path:
+    """Write an HDF5 file atomically and deterministically.
+
+    ``datasets`` maps names to array-likes (stored at the root), ``attrs``
+    holds root attributes (encoded as described in the module docstring) and
+    ``groups`` maps group names to dicts with the optional keys
+    ``"datasets"``, ``"attrs"`` and ``"groups"`` (nested the same way).
+    Names may not contain "/": nesting is spelled with ``groups``.  The root
+    attribute ``selfalign_version`` is added automatically and may not be
+    passed in ``attrs``.
+    """
+    from . import __version__  # here, not at the top: the package __init__ may import this module
+
+    attrs = dict(attrs or {})
+    if VERSION_ATTR in attrs:
+        raise ValueError(f"attribute {VERSION_ATTR!r} is reserved: write_h5 sets it")
+    attrs[VERSION_ATTR] = __version__
+    content = {"datasets": datasets, "attrs": attrs, "groups": groups or {}}
+
+    def writer(tmp: Path) -> None:
+        with h5py.File(tmp, "w", track_times=False) as f:
+            _write_group(f, content, "/")
+
+    return atomic_write(path, writer)
+
+
+def _write_group(group: h5py.Group, content: dict, where: str) -> None:
+    unknown = set(content) - _GROUP_KEYS
+    if unknown:
+        raise ValueError(f"group {where!r}: unknown keys {sorted(unknown)}; allowed: {sorted(_GROUP_KEYS)}")
+    datasets = content.get("datasets") or {}
+    subgroups = content.get("groups") or {}
+    for name in list(datasets) + list(subgroups):
+        if not isinstance(name, str) or not name or "/" in name or name == ".":
+            raise ValueError(f"group {where!r}: invalid name {name!r} (a non-empty string without '/')")
+    clash = set(datasets) & set(subgroups)
+    if clash:
+        raise ValueError(f"group {where!r}: {sorted(clash)} named both as dataset and as group")
+    for name, value in datasets.items():
+        group.create_dataset(name, data=_dataset_array(value), track_times=False)
+    for key, value in (content.get("attrs") or {}).items():
+        group.attrs[key] = _encode_attr(value)
+    for name, sub in subgroups.items():
+        _write_group(group.create_group(name), sub, f"{where.rstrip('/')}/{name}")
+
+
+def _dataset_array(value) -> np.ndarray:
+    """numpy's fixed-width unicode has no HDF5 type: store text as UTF-8 strings."""
+    arr = np.asarray(value)
+    if arr.dtype.kind == "U":
+        return arr.astype(h5py.string_dtype())
+    return arr
+
+
+def _is_int(x) -> bool:
+    return isinstance(x, (int, np.integer)) and not isinstance(x, (bool, np.bool_))
+
+
+def _encode_attr(value):
+    if isinstance(value, (bool, np.bool_, float, np.floating)):
+        return value
+    if _is_int(value):
+        return value if _INT64.min <= value <= _INT64.max else _json(value)
+    if isinstance(value, str):
+        return _json(value) if value.startswith(JSON_PREFIX) or "\0" in value else value
+    if isinstance(value, np.ndarray) and value.size and value.dtype.kind in "iuf":
+        return value
+    if isinstance(value, (list, tuple)) and value:
+        if all(_is_int(v) and _INT64.min <= v <= _INT64.max for v in value):
+            return np.asarray(value, dtype=np.int64)
+        if all(isinstance(v, (float, np.floating)) for v in value):
+            return np.asarray(value, dtype=np.float64)
+    return _json(value)
+
+
+def _json(value) -> str:
+    return JSON_PREFIX + json.dumps(value, default=_json_default)
+
+
+def _json_default(obj):
+    """numpy values inside dicts and lists are stored as their Python equivalents."""
+    if isinstance(obj, (np.generic, np.ndarray)):
+        return obj.tolist()
+    raise TypeError(f"attribute value of type {type(obj).__name__} cannot be stored")
+
+
+def _decode_attr(value):
+    if isinstance(value, (np.ndarray, np.generic)):
+        return value.tolist()
+    if isinstance(value, bytes):
+        value = value.decode()
+    if isinstance(value, str) and value.startswith(JSON_PREFIX):
+        return json.loads(value[len(JSON_PREFIX):])
+    return value
+
+
+def read_h5(path) -> dict:
+    """Read a file written by :func:`write_h5`.
+
+    Returns ``{"datasets": {name: ndarray}, "attrs": {name: value},
+    "groups": {name: <same structure>}}``; string datasets come back as
+    numpy unicode arrays and attributes are decoded to Python values.
+    """
+    with h5py.File(path, "r") as f:
+        return _read_group(f)
+
+
+def _read_group(group: h5py.Group) -> dict:
+    out = {"datasets": {}, "attrs": {k: _decode_attr(v) for k, v in group.attrs.items()}, "groups": {}}
+    for name, item in group.items():
+        if isinstance(item, h5py.Group):
+            out["groups"][name] = _read_group(item)
+        elif h5py.check_string_dtype(item.dtype) is not None:
+            out["datasets"][name] = np.asarray(item.asstr()[...], dtype=str)
+        else:
+            out["datasets"][name] = item[...]
+    return out
