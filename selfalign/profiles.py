@@ -137,7 +137,7 @@ def three_phase_times(dt, dy, y2, y3) -> ThreePhaseTimes:
 
         t1 = dt r,   y'_ini = dt (1 - r)^2 / (2 k),   y_ini = y'_ini^2 / (2 y3).
 
-    No cancellation occurs anywhere.  Because y'' has zero mean and the table
+    1 - r is evaluated as q / (1 + r), which does not cancel as q -> 0.  Because y'' has zero mean and the table
     first decelerates, y'_ini > 0 always: the Appendix's "second case"
     y'_ini < 0 cannot occur.  Case 0 is q > 1 (complex r).
     Inputs broadcast; infeasible entries are NaN.
@@ -148,11 +148,12 @@ def three_phase_times(dt, dy, y2, y3) -> ThreePhaseTimes:
     feasible = q <= 1.0
     with np.errstate(invalid="ignore"):
         r = np.sqrt(np.where(feasible, 1.0 - q, np.nan))
-    swing = dt * (1.0 - r) / k
+    one_minus_r = q / (1.0 + r)
+    swing = dt * one_minus_r / k
     t1 = dt * r
     t2 = t1 + swing / y2
     t3 = dt + 0.0 * t1
-    yd_ini = swing * swing * k / (2.0 * dt)
+    yd_ini = dt * one_minus_r**2 / (2.0 * k)
     y_ini = yd_ini**2 / (2.0 * y3)
     return ThreePhaseTimes(t1=t1, t2=t2, t3=np.where(feasible, t3, np.nan), y_ini=y_ini,
                            yd_ini=yd_ini, t_top=t1 + yd_ini / y2, t_bottom=t3 - yd_ini / y3,

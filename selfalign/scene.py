@@ -201,7 +201,8 @@ def validate_scene_dict(data, source: str = "<scene>") -> None:
     errors = sorted(validator.iter_errors(data), key=lambda e: (len(e.absolute_path), str(e.absolute_path)))
     if errors:
         # The deepest error names the offending key most precisely.
-        error = max(errors, key=lambda e: len(e.absolute_path))
+        # An unknown key says more than the required key it may be a typo of.
+        error = max(errors, key=lambda e: (len(e.absolute_path), e.validator == "additionalProperties"))
         raise SceneError(f"{source}: {_schema_message(error)}")
 
 
