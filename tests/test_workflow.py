@@ -1,0 +1,114 @@
+"""The Snakemake workflow and its trajectory stage.
+
+Snakemake runs in a temporary copy of ``Snakefile`` + ``workflow/`` (results
+and figures are written relative to the working directory, so the repository
+is never touched).  The stage's library step, ``profile_samples``, is tested
+directly as well.
+"""
+
+import shutil
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+import yaml
+
+import selfalign
+from selfalign import load_scene, scene_from_dict
+from selfalign.pipeline import profile_samples
+from selfalign.results import read_h5
+
+SNAKEMAKE = [sys.executable, "-m", "snakemake"]
+NOTHING_TO_DO = "Nothing to be done"
+
+
+@pytest.fixture
+def workdir(repo, tmp_path):
+    """A runnable copy of the workflow; the scene-schema symlink becomes a plain file."""
+    shutil.copy(repo / "Snakefile", tmp_path / "Snakefile")
+    shutil.copytree(repo / "workflow", tmp_path / "workflow")
+    return tmp_path
+
+
+def snakemake(workdir, *args):
+    proc = subprocess.run([*SNAKEMAKE, *args], cwd=workdir, capture_output=True, text=True, timeout=300)
+    return proc.returncode, proc.stdout + proc.stderr
+
+
+def test_dry_run_plans_every_stage_job(workdir):
+    """`snakemake -n` parses the workflow, validates config and scenes, and plans all jobs."""
+    rc, out = snakemake(workdir, "-n", "-c1")
+    assert rc == 0, out
+    config = yaml.safe_load((workdir / "workflow/config/config.yaml").read_text())
+    for name in config["stages"]["trajectory"]["scenes"]:
+        assert f"results/trajectory/{name}.h5" in out
+    assert "plot_fig07" in out and "figures/fig07.png" in out
+
+
+@pytest.mark.parametrize("old, new, key", [
+    ("dt: 0.05", "dt: -0.05", "profile.dt"),
+    ("horizon: {periods: 3}", "horizon: {periods: 3, perods: 4}", "horizon: unknown key 'perods'"),
+])
+def test_malformed_scene_stops_before_any_job(workdir, old, new, key):
+    """A bad scene file stops the run at parse time with one message naming file and key."""
+    scene = workdir / "workflow/scenes/polynomial.yaml"
+    scene.write_text(scene.read_text().replace(old, new))
+    rc, out = snakemake(workdir, "-c1")
+    assert rc != 0
+    assert f"invalid scene: workflow/scenes/polynomial.yaml: {key}" in out, out
+    assert not (workdir / "results").exists() and not (workdir / "figures").exists()
+
+
+def test_trajectory_stage_end_to_end(workdir):
+    """The workflow profile builds every trajectory result and Fig. 7; afterwards nothing is
+    left to do, and restyling the figure (dpi) reruns the plot only, not the data."""
+    rc, out = snakemake(workdir, "--workflow-profile", "workflow/profiles/default")
+    assert rc == 0, out
+    result = read_h5(workdir / "results/trajectory/fig07.h5")
+    d, a = result["datasets"], result["attrs"]
+    assert set(d) == {"t", "y", "yd", "ydd", "switch_times"}
+    np.testing.assert_allclose(d["switch_times"], [a["t1"], a["t2"]], rtol=0, atol=0)
+    assert (a["kind"], a["dt"], a["dy"], a["y2"], a["y3"]) == ("three_phase", 1.05, 0.084, 2.2, 0.9)
+    assert a["selfalign_version"] == selfalign.__version__
+    scene = load_scene(workdir / "workflow/scenes/fig07.yaml")
+    assert scene_from_dict(yaml.safe_load(a["scene"])).to_dict() == scene.to_dict()
+    assert (workdir / "figures/fig07.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+    rc, out = snakemake(workdir, "-n", "-c1")
+    assert rc == 0 and NOTHING_TO_DO in out, out
+
+    config = workdir / "workflow/config/config.yaml"
+    config.write_text(config.read_text().replace("dpi: 150", "dpi: 80"))
+    rc, out = snakemake(workdir, "-n", "-c1")
+    assert rc == 0 and "plot_fig07" in out and "generate_trajectory" not in out, out
+
+
+def test_samples_include_switch_times_and_span_the_horizon(repo):
+    """Samples cover [phase dt, (phase + N) dt] with samples_per_period per period plus every
+    switch time; at a switch y'' is the new piece's value (right-continuous), so y' is exactly
+    linear between samples (midpoint value = mean of the ends, to 1e-12)."""
+    base = load_scene(repo / "workflow/scenes/fig07.yaml")
+    scene = base.replace(phase=0.3, periods=3)
+    d, a = profile_samples(scene)
+    p = scene.profile
+    t = d["t"]
+    assert t[0] == pytest.approx(0.3 * p.dt, abs=1e-15) and t[-1] == pytest.approx(3.3 * p.dt, rel=1e-15)
+    assert np.all(np.diff(t) > 0)
+    switches = np.concatenate([k * p.dt + p.switch_times for k in range(4)])
+    switches = switches[(switches >= t[0]) & (switches <= t[-1])]
+    hits = np.searchsorted(t, switches)
+    np.testing.assert_allclose(t[hits], switches, rtol=1e-15)
+    assert t.size == 3 * scene.record.samples_per_period + 1 + switches.size
+    # right after t1 the table decelerates with -y2, right after t2 it accelerates with +y3
+    assert set(np.round(d["ydd"][hits], 12)) == {-p.y2, p.y3}
+    mid = 0.5 * (t[:-1] + t[1:])
+    np.testing.assert_allclose(p.velocity(mid), 0.5 * (d["yd"][:-1] + d["yd"][1:]), rtol=0, atol=1e-12)
+    assert (a["periods"], a["samples_per_period"]) == (3, scene.record.samples_per_period)
+
+
+def test_rest_scene_samples_one_period(repo):
+    """A scene that runs until rest has no fixed horizon: the stage samples one period."""
+    scene = load_scene(repo / "workflow/scenes/stop_zone.yaml")
+    d, a = profile_samples(scene)
+    assert a["periods"] == 1 and d["t"][-1] == pytest.approx(scene.profile.dt, rel=1e-15)

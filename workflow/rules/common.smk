@@ -1,0 +1,60 @@
+# Helpers shared by every stage: scene lookup, result paths, the list of final targets.
+# Every scene the config names is loaded and validated here, when the workflow is
+# parsed, so a bad scene file stops the run before any job starts.
+
+import re
+from pathlib import Path
+
+from snakemake.exceptions import WorkflowError
+
+import selfalign
+
+#: Final outputs of all stages; each stage's .smk extends it, rule `all` requests it.
+TARGETS = []
+
+
+def scenes(stage):
+    """Scene names the config lists for `stage`."""
+    return list(config["stages"][stage]["scenes"])
+
+
+def scene_file(name):
+    return f"{config['scenes_dir']}/{name}.yaml"
+
+
+def results(stage, name, ext="h5"):
+    """Path of a result file: results/<stage>/<name>.<ext>."""
+    return f"results/{stage}/{name}.{ext}"
+
+
+def log_file(stage, name):
+    return f"results/logs/{stage}/{name}.log"
+
+
+def figure(name):
+    return f"figures/{name}.png"
+
+
+def _load_scenes():
+    """Every scene named in the config, validated; a SceneError becomes a WorkflowError."""
+    names = {n for stage in config["stages"] for n in scenes(stage)}
+    names |= {f["scene"] for f in config["figures"].values() if isinstance(f, dict) and "scene" in f}
+    loaded = {}
+    for name in sorted(names):
+        path = scene_file(name)
+        try:
+            scene = selfalign.load_scene(path)
+        except selfalign.SceneError as exc:
+            raise WorkflowError(f"invalid scene: {exc}") from None
+        if scene.name != name:
+            raise WorkflowError(f"invalid scene: {path}: name: {scene.name!r} differs from the "
+                                f"file name {name!r}; drop the key or rename the file")
+        loaded[name] = scene
+    return loaded
+
+
+#: name -> validated selfalign.Scene
+SCENES = _load_scenes()
+
+wildcard_constraints:
+    scene="|".join(re.escape(n) for n in sorted(SCENES)),
