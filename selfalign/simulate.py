@@ -10,8 +10,9 @@ from .trajectory import Trajectory
 #: Options each method accepts, with their defaults.
 DEFAULT_OPTIONS = {
     "exact": {"accumulation_tol": 1e-12, "max_events": 50_000_000},
-    "moreau": {"h": None, "iteration": "exact", "fp_tol": 1e-14, "fp_max_iter": 200},
-    "ivp": {"rtol": 1e-8, "atol": 1e-10, "integrator": "DOP853"},
+    "moreau": {"h": None, "iteration": "exact", "fp_tol": 1e-14, "fp_max_iter": 200,
+               "accumulation_tol": 1e-12},
+    "ivp": {"rtol": 1e-8, "atol": 1e-10, "integrator": "DOP853", "max_events": 1_000_000},
 }
 
 

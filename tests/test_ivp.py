@@ -1,0 +1,154 @@
+"""Mode-switching solve_ivp baseline, ``simulate(scene, method="ivp")``.
+
+References are closed forms computed here: the case-1 steady state of Sect. 5.1
+(eqs. 12-24) and the stick-position map (59) of Sect. 7.3.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+import selfalign as sa
+from selfalign.simulate import DEFAULT_OPTIONS
+from selfalign.solvers import ivp
+
+PROFILE = sa.ThreePhaseProfile(1.05, 0.084, 2.2, 0.9)   # Fig. 18 settings: case 1
+ZONE = sa.StopZone(0.5, 0.05, 2.5)                       # Sect. 7.2
+
+
+def case1(p):
+    """(net advance per period, t_{x'=0}) of the case-1 steady state, eqs. (12)-(24)."""
+    v2 = (p.y2 - 1.0) * (p.t2 - p.t1)                    # eq. (16) at t2
+    x2 = (p.y2 - 1.0) * (p.t2 - p.t1) ** 2 / 2.0         # eq. (17) at t2
+    t_stop = p.t2 + v2 / (1.0 + p.y3)                    # eq. (21)
+    assert p.t2 < t_stop < p.t3
+    return x2 + v2 * v2 / (2.0 * (1.0 + p.y3)), t_stop   # eq. (20) at t_{x'=0}, held (eq. 24)
+
+
+def stick_map(p, zone, x_n):
+    """x_{n+1} from a stick at x_n in the transition region, eq. (59)."""
+    b1 = zone.b1
+    b2 = b1 * zone.x_mu - 1.0
+    c = x_n - (b2 + p.y2) / b1
+    arg = math.sqrt(b1) * (p.t2 - p.t1)
+    return (b2 - p.y3) / b1 + math.hypot((p.y2 + p.y3) / b1 + c * math.cos(arg), c * math.sin(arg))
+
+
+@pytest.mark.parametrize("rtol", [1e-6, 1e-9])
+def test_case1_steady_state(rtol):
+    """Sect. 5.1, eqs. (12)-(24): from x = x' = 0 at t0 the motion is the case-1 steady state
+    at once: stick on [0, t1], slip on [t1, t2] and after t2 until x' = 0 at t_{x'=0} (eq. 21),
+    stick to t3.  End position after 3 periods and the STICK event times agree within
+    10 rtol (relative to the values)."""
+    advance, t_stop = case1(PROFILE)
+    scene = sa.Scene(PROFILE, periods=3, record=sa.Record(events=True))
+    tr = sa.simulate(scene, method="ivp", rtol=rtol, atol=rtol * 1e-2)
+    assert tr.status is sa.Status.HORIZON and (tr.period_end, tr.tau_end) == (3, 0.0)
+    assert tr.x_end == pytest.approx(3 * advance, rel=10 * rtol) and tr.v_end == 0.0
+    ev = tr.events
+    stick = ev[ev["kind"] == sa.EventKind.STICK]
+    assert len(stick) == 3 and np.allclose(stick["tau"], t_stop, rtol=10 * rtol, atol=0)
+    assert np.allclose(stick["x"] - advance * np.arange(1, 4), 0.0, atol=10 * rtol * 3 * advance)
+    assert set(ev["kind"]) == {sa.EventKind.SWITCH, sa.EventKind.STICK}   # no reversal in case 1
+
+
+def test_stop_zone_map_improves_with_tolerance():
+    """Sect. 7.3, eq. (59): one period from a stick at x_n = x_mu + 0.01 (harmonic-oscillator
+    slip, eq. 42) ends at x_{n+1}; the error is <= 10 rtol |x| and decreases strictly as
+    rtol goes 1e-6 -> 1e-9 -> 1e-12."""
+    x_n = ZONE.x_mu + 0.01
+    reference = stick_map(PROFILE, ZONE, x_n)
+    errors = []
+    for rtol in (1e-6, 1e-9, 1e-12):
+        tr = sa.simulate(sa.Scene(PROFILE, ZONE, x0=x_n, periods=1), method="ivp", rtol=rtol, atol=rtol * 1e-2)
+        errors.append(abs(tr.x_end - reference))
+        assert errors[-1] <= 10 * rtol * abs(reference)
+    assert errors[0] > errors[1] > errors[2]
+
+
+def test_stop_zone_run_stays_finite_and_stops():
+    """Sects. 7.2-7.3: entering the zone (x_mu = 0.5) the mass accumulates at x_stick_min = 0.54
+    (eq. 41); event location follows the stick positions until rounding makes them reach
+    it, so the run ends at rest there (within 1e-9), finite, with one ZONE event at x_mu."""
+    scene = sa.Scene(PROFILE, ZONE, until="rest", max_periods=200,
+                     record=sa.Record(series=("x", "v", "mode"), events=True))
+    tr = sa.simulate(scene, method="ivp")
+    assert tr.status is sa.Status.REST, tr.message
+    assert tr.x_end == pytest.approx(ZONE.x_stick_min(2.2), abs=1e-9)
+    assert np.all(np.isfinite(tr.x)) and np.all(np.isfinite(tr.v))
+    zone = tr.events[tr.events["kind"] == sa.EventKind.ZONE]
+    assert len(zone) == 1 and zone["x"][0] == ZONE.x_mu
+
+
+def test_fourier_profile_agrees_with_moreau():
+    """Sect. 4.4.2 (smooth Fourier profile), DESIGN model: stick -> slip where |y''| crosses
+    mu_bar.  With a start phase, v0 != 0 and a stop zone, the ivp end state agrees with
+    Moreau at h = dt/1e5 within 1e-5 (Moreau's O(h) error)."""
+    fourier = sa.FourierProfile(1.0, [0.0, 0.002], [0.03, 0.01])
+    for surface in (sa.Uniform(), sa.StopZone(-0.004, 0.01, 3.0)):
+        scene = sa.Scene(fourier, surface, x0=0.0, v0=0.05, phase=0.3, periods=3, record=sa.Record(events=True))
+        a = sa.simulate(scene, method="ivp", rtol=1e-10, atol=1e-12)
+        b = sa.simulate(scene, method="moreau", h=1e-5)
+        assert a.status is sa.Status.HORIZON
+        assert a.x_end == pytest.approx(b.x_end, abs=1e-5) and a.v_end == pytest.approx(b.v_end, abs=1e-5)
+        assert {sa.EventKind.STICK, sa.EventKind.SLIP} <= set(a.events["kind"])
+
+
+def test_polynomial_profile_agrees_with_moreau():
+    """Sect. 4.2: the slip-slip polynomial profile (no stick); ivp and Moreau (h = dt/5e4)
+    agree to 1e-5 after 10 periods."""
+    scene = sa.Scene(sa.PolynomialProfile(0.05, 0.02), periods=10)
+    a = sa.simulate(scene, method="ivp")
+    b = sa.simulate(scene, method="moreau", h=1e-6)
+    assert a.x_end == pytest.approx(b.x_end, abs=1e-5)
+
+
+def test_dense_output_has_grid_and_events():
+    """DESIGN: dense output = uniform grid of samples_per_period per period plus every event
+    (post-event state), each time once; t increasing, mode follows the model; the STICK
+    time t_{x'=0} of eq. (21) is a sample with v = 0 and mode = stick."""
+    _, t_stop = case1(PROFILE)
+    rec = sa.Record(series=("x", "v", "ydd", "friction", "mode"), samples_per_period=40, events=True)
+    tr = sa.simulate(sa.Scene(PROFILE, periods=2, phase=0.1, record=rec), method="ivp")
+    grid = PROFILE.dt * (0.1 + np.arange(2 * 40 + 1) / 40)
+    event_t = tr.events["period"] * PROFILE.dt + tr.events["tau"]
+    assert np.all(np.diff(tr.t) > 0)
+    assert np.array_equal(np.round(tr.t, 12), np.union1d(np.round(grid, 12), np.round(event_t, 12)))
+    at_stop = np.isclose(tr.t, PROFILE.dt + t_stop, rtol=1e-9)
+    assert at_stop.any() and np.all(tr.v[at_stop] == 0.0) and np.all(tr.mode[at_stop] == 0)
+    assert np.all(np.abs(tr.friction) <= 1.0) and np.all(tr.mode >= 0)
+    assert tr.x[-1] == tr.x_end and (tr.period_end, tr.tau_end) == (2, pytest.approx(0.1 * PROFILE.dt))
+
+
+def test_rest_outcomes():
+    """Sect. 3.2 / DESIGN: stuck where mu_bar >= max|y''| is rest for good: REST with
+    until='rest'; in a horizon run the remaining periods are skipped (x constant)."""
+    gentle = sa.ThreePhaseProfile(2.0, 0.05, 0.9, 0.8)
+    tr = sa.simulate(sa.Scene(gentle, v0=0.05, until="rest"), method="ivp")
+    assert tr.status is sa.Status.REST and tr.x_end == pytest.approx(0.05**2 / 2, rel=1e-12)
+    assert tr.tau_end == pytest.approx(0.05, rel=1e-12)
+    rec = sa.Record(series=("x",), samples_per_period=2)
+    long = sa.simulate(sa.Scene(gentle, v0=0.05, periods=100_000, record=rec), method="ivp")
+    assert long.status is sa.Status.HORIZON and long.period_end == 100_000 and long.x_end == tr.x_end
+    assert len(long.t) == 2 * 100_000 + 2 and np.all(long.x[1:] == tr.x_end)   # grid + start + REST event
+
+
+def test_event_bound_gives_error_not_hang():
+    """DESIGN: never a hang.  With max_events = 5 (option read by the solver; see report)
+    the run stops with ERROR and a message naming the event bound."""
+    scene = sa.Scene(PROFILE, periods=10)
+    opts = {**DEFAULT_OPTIONS["ivp"], "max_events": 5}
+    tr = ivp.solve(scene, opts)
+    assert tr.status is sa.Status.ERROR and "max_events" in tr.message
+    assert tr.stats["events"] == 6 and math.isfinite(tr.x_end)
+
+
+@pytest.mark.parametrize("options, word", [
+    ({"rtol": 0.0}, "rtol"), ({"rtol": float("nan")}, "rtol"), ({"atol": -1.0}, "atol"),
+    ({"integrator": "Euler"}, "integrator"),
+])
+def test_bad_options_raise(options, word):
+    """Bad input raises a one-line ValueError naming the option (DESIGN), before any work."""
+    with pytest.raises(ValueError, match=word):
+        sa.simulate(sa.Scene(PROFILE, periods=1), method="ivp", **options)

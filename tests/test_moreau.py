@@ -1,0 +1,242 @@
+"""Moreau midpoint time-stepping (Sect. 4.1), ``simulate(scene, method="moreau")``.
+
+References are closed forms computed here: the case-1 steady state of Sect. 5.1
+(eqs. 12-24) and the stick-position map (59) of Sect. 7.3 in the stop zone.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+import selfalign as sa
+from selfalign.solvers.moreau import exact_impulse, fixed_point_impulse, friction_function, make_step, solve_batch
+
+# Fig. 18 settings (Sect. 7.3): case 1 on the uniform surface (y2 > 1, y3 < 1).
+PROFILE = sa.ThreePhaseProfile(1.05, 0.084, 2.2, 0.9)
+ZONE = sa.StopZone(0.5, 0.05, 2.5)   # Sect. 7.2: w = 0.05, c_mu = 2.5
+
+
+def case1_advance(p):
+    """Net advance per period of the case-1 steady state from x = x' = 0 at t = 0 (eqs. 12-24)."""
+    v2 = (p.y2 - 1.0) * (p.t2 - p.t1)                    # eq. (16) at t2
+    x2 = (p.y2 - 1.0) * (p.t2 - p.t1) ** 2 / 2.0         # eq. (17) at t2
+    t_stop = p.t2 + v2 / (1.0 + p.y3)                    # eq. (21)
+    assert p.t2 < t_stop < p.t3                           # it is a case-1 motion
+    return x2 + v2 * v2 / (2.0 * (1.0 + p.y3))           # eq. (20) at t_{x'=0}, held to t3 (eq. 24)
+
+
+def stick_map(p, zone, x_n):
+    """Next stick position x_{n+1} from a stick at x_n in the transition region, eq. (59)."""
+    b1 = zone.b1
+    b2 = b1 * zone.x_mu - 1.0
+    c = x_n - (b2 + p.y2) / b1
+    arg = math.sqrt(b1) * (p.t2 - p.t1)
+    return (b2 - p.y3) / b1 + math.hypot((p.y2 + p.y3) / b1 + c * math.cos(arg), c * math.sin(arg))
+
+
+def envelope_order(run, reference, base_steps):
+    """Slope of log(error envelope) vs log(h): at each base h the largest error over six
+    steps in [h, 1.83 h], because the O(h) error constant oscillates with where the
+    profile's switch times fall inside a step."""
+    envelope = [max(abs(run(h * (1 + j / 6)) - reference) for j in range(6)) for h in base_steps]
+    return np.polyfit(np.log(base_steps), np.log(envelope), 1)[0], envelope
+
+
+def test_case1_first_order_convergence():
+    """Sect. 4.1 / 5.1: Moreau time-stepping converges with order 1 to the analytic case-1
+    steady state (eqs. 12-24); fitted slope of the end-position error envelope over three
+    decades of h (1e-2 ... 1e-5) must lie in [0.8, 1.2]."""
+    scene = sa.Scene(PROFILE, periods=1)
+    order, envelope = envelope_order(lambda h: sa.simulate(scene, method="moreau", h=h).x_end,
+                                     case1_advance(PROFILE), np.logspace(-2, -5, 7))
+    assert 0.8 <= order <= 1.2, (order, envelope)
+    assert envelope[-1] < 1e-4
+
+
+def test_stop_zone_first_order_convergence():
+    """Sect. 7.3, eq. (59): from a stick at x_n = x_mu + 0.01 in the transition region, one
+    period of forced harmonic-oscillator slip ends stuck at x_{n+1} of the closed-form map
+    (reference: eq. 59, not a fine Moreau run).  Fitted order over h in [1e-5, 1e-2] must
+    lie in [0.8, 1.2]."""
+    x_n = ZONE.x_mu + 0.01
+    scene = sa.Scene(PROFILE, ZONE, x0=x_n, periods=1)
+    reference = stick_map(PROFILE, ZONE, x_n)
+    assert x_n < reference < ZONE.x_stick_min(PROFILE.max_abs_acceleration)
+    order, envelope = envelope_order(lambda h: sa.simulate(scene, method="moreau", h=h).x_end,
+                                     reference, np.logspace(-2, -5, 7))
+    assert 0.8 <= order <= 1.2, (order, envelope)
+
+
+@pytest.mark.parametrize("surface, x0", [(sa.Uniform(), 0.0), (ZONE, 0.45)])
+def test_fixed_point_agrees_with_exact_iteration(surface, x0):
+    """Sect. 4.1: the paper's fixed-point iteration solves the same implicit step as the
+    exact soft threshold; each step's velocity differs by <= fp_tol, so over S steps the
+    positions differ by <= S h fp_tol (+ rounding 1e-14) and the velocities by <= fp_tol."""
+    scene = sa.Scene(PROFILE, surface, x0=x0, periods=4)
+    exact = sa.simulate(scene, method="moreau", h=1e-3)
+    for fp_tol in (1e-14, 1e-9):
+        fixed = sa.simulate(scene, method="moreau", h=1e-3, iteration="fixed_point", fp_tol=fp_tol)
+        bound = exact.stats["steps"] * exact.options["h"] * fp_tol + 1e-14
+        assert abs(fixed.x_end - exact.x_end) <= bound
+        assert abs(fixed.v_end - exact.v_end) <= fp_tol
+        assert fixed.info["fp_unconverged_steps"] == 0 and "WARNING" not in fixed.message
+
+
+def test_step_formula_fixed_point_on_floats_and_arrays():
+    """Sect. 4.1: one step formula; on random states the fixed-point step (r = 0.5 / (h mu_bar),
+    contraction 1/2) matches the soft-threshold step to fp_tol = 1e-13 on floats and arrays."""
+    rng = np.random.default_rng(1)
+    x, v, a = rng.uniform(-0.1, 0.2, 200), rng.uniform(-0.01, 0.01, 200), rng.uniform(-3, 3, 200)
+    h, tally = 1e-3, {"iterations": 0, "unconverged": 0, "max_change": 0.0}
+    zone = sa.StopZone(0.0, 0.05, 2.5)   # x_mu = 0: positions relative to x_mu are absolute
+    exact = make_step(h, friction_function(zone, np.clip), exact_impulse(np.clip))
+    fixed = make_step(h, friction_function(zone, np.clip),
+                      fixed_point_impulse(1e-13, 200, tally, np.clip, lambda d: float(np.max(np.abs(d)))))
+    (xe, ve), (xf, vf) = exact(x, v, a), fixed(x, v, a)
+    assert np.max(np.abs(ve - vf)) <= 1e-13 and np.max(np.abs(xe - xf)) <= h * 1e-13
+    assert np.any(ve == 0.0) and np.array_equal(ve == 0.0, vf == 0.0)   # stick detected identically
+    step_float = make_step(h, friction_function(zone), exact_impulse())
+    for i in range(0, 200, 17):
+        assert step_float(float(x[i]), float(v[i]), float(a[i])) == (xe[i], ve[i])
+
+
+def test_fixed_point_non_convergence_is_reported():
+    """Sect. 4.1: with fp_max_iter = 1 the iteration cannot reach fp_tol; the run finishes
+    but says so in its message and info."""
+    tr = sa.simulate(sa.Scene(PROFILE, periods=1), method="moreau", iteration="fixed_point", fp_max_iter=1)
+    assert tr.status is sa.Status.HORIZON
+    assert "WARNING" in tr.message and tr.info["fp_unconverged_steps"] > 0
+
+
+@pytest.mark.parametrize("options, word", [
+    ({"h": 0.0}, "h"), ({"h": -1e-3}, "h"), ({"h": float("nan")}, "h"), ({"h": float("inf")}, "h"),
+    ({"h": 2.0}, "h"), ({"h": "0.01"}, "h"), ({"h": True}, "h"),
+    ({"iteration": "newton"}, "iteration"), ({"fp_tol": 0.0}, "fp_tol"), ({"fp_max_iter": 0}, "fp_max_iter"),
+])
+def test_bad_options_raise(options, word):
+    """Bad input raises a one-line ValueError naming the option (DESIGN), before any work:
+    h must be finite in (0, dt]."""
+    with pytest.raises(ValueError, match=word):
+        sa.simulate(sa.Scene(PROFILE, periods=1), method="moreau", **options)
+
+
+def test_step_is_adjusted_to_whole_periods():
+    """Sect. 4.1 (fixed steps): h is adjusted down to dt / ceil(dt / h) and reported."""
+    tr = sa.simulate(sa.Scene(PROFILE, periods=1), method="moreau", h=0.004)
+    n = math.ceil(PROFILE.dt / 0.004)
+    assert tr.options["h"] == PROFILE.dt / n and tr.info["steps_per_period"] == n
+    assert sa.simulate(sa.Scene(PROFILE, periods=1), method="moreau").options["h"] == PROFILE.dt / 1000
+
+
+SCENES = [
+    sa.Scene(PROFILE, periods=3, record=sa.Record(series=("x", "v", "y", "yd", "ydd", "friction", "mode"))),
+    sa.Scene(PROFILE, ZONE, x0=0.3, v0=0.2, phase=0.4, periods=5, record=sa.Record(series=("x", "friction"))),
+    sa.Scene(sa.PolynomialProfile(0.05, 0.02), periods=4, record=sa.Record(series=("x", "v"))),
+    sa.Scene(sa.FourierProfile(1.0, [0.0, 0.002], [0.03, 0.01]), sa.StopZone(0.02, 0.02, 3.0), periods=4,
+             record=sa.Record(series=("x", "v", "mode"), samples_per_period=64)),
+]
+
+
+@pytest.mark.parametrize("scene", SCENES)
+def test_no_nan_and_consistent_dense_output(scene):
+    """DESIGN solver contract: finite results for every profile kind and surface; dense
+    output on the uniform grid (samples_per_period per period + the end), nondecreasing t,
+    ending at the end state."""
+    tr = sa.simulate(scene, method="moreau", h=scene.profile.dt / 2000)
+    assert math.isfinite(tr.x_end) and math.isfinite(tr.v_end) and tr.events is None
+    assert tr.stats["events"] == 0 and tr.stats["steps"] > 0
+    assert len(tr.t) == scene.periods * scene.record.samples_per_period + 1
+    assert np.all(np.diff(tr.t) > 0) and tr.t[-1] == pytest.approx(scene.periods * scene.profile.dt
+                                                                    + scene.phase * scene.profile.dt)
+    for name in scene.record.series:
+        assert np.all(np.isfinite(tr.series[name]))
+    assert tr.x[-1] == tr.x_end
+    assert (tr.period_end, tr.tau_end) == (scene.periods, pytest.approx(scene.phase * scene.profile.dt))
+
+
+def test_friction_series_follows_the_model():
+    """Eq. (5): F = -(x'' + y''); on the case-1 steady state F = -y'' = 0 while stuck in
+    [0, t1), F = +1 in forward slip, |F| <= 1 always (uniform surface, mu_bar = 1)."""
+    tr = sa.simulate(SCENES[0], method="moreau", h=PROFILE.dt / 2000)
+    assert np.all(np.abs(tr.friction) <= 1.0)
+    assert np.all(tr.friction[tr.mode == 1] == 1.0)
+    stick = tr.mode == 0
+    assert np.array_equal(tr.friction[stick], -tr.ydd[stick])
+    assert np.all(tr.mode >= 0)   # case 1: x' >= 0 throughout (Table 1)
+
+
+def test_rest_on_uniform_surface():
+    """Sect. 3.2: with max|y''| <= 1 the mass ends in pure stick (case 5); from v0 = 0.05 in
+    [0, t1) (y'' = 0) it slips with x'' = -1 to rest at x = v0^2 / 2, t = v0, and stays
+    there (REST, v = 0); tolerance h v0 (one step)."""
+    gentle = sa.ThreePhaseProfile(2.0, 0.05, 0.9, 0.8)
+    h, v0 = 1e-4, 0.05
+    tr = sa.simulate(sa.Scene(gentle, v0=v0, until="rest"), method="moreau", h=h)
+    assert tr.status is sa.Status.REST and tr.v_end == 0.0
+    assert tr.x_end == pytest.approx(v0**2 / 2, abs=h * v0)
+    assert tr.period_end == 0 and tr.tau_end == pytest.approx(v0, abs=h)
+
+
+def test_accumulation_in_stop_zone():
+    """Sect. 7.3, eq. (60): entering the stop zone with the Fig. 18 profile, stick positions
+    accumulate at x_stick_min (eq. 41) = 0.54; the scheme's limit (reported with the
+    caveat) equals it to 1e-12 for every h."""
+    scene = sa.Scene(PROFILE, ZONE, until="rest", max_periods=200)
+    for h in (1e-2, 1e-3):
+        tr = sa.simulate(scene, method="moreau", h=h)
+        assert tr.status is sa.Status.ACCUMULATION, tr.message
+        assert tr.x_end == pytest.approx(ZONE.x_stick_min(2.2), abs=1e-12)
+        assert 0.0 < tr.info["contraction"] < 1.0 and "caveat" in tr.message
+
+
+def test_never_stops_when_walking_away():
+    """Sects. 5.1, 7: case 1 on a uniform surface advances for ever (NEVER_STOPS, net advance
+    per period = the eq. 12-24 value to O(h)); the same when the zone is too weak
+    (c_mu < max|y''|) and the mass has passed it."""
+    tr = sa.simulate(sa.Scene(PROFILE, until="rest"), method="moreau", h=1e-4)
+    assert tr.status is sa.Status.NEVER_STOPS
+    assert tr.info["net_advance"] == pytest.approx(case1_advance(PROFILE), abs=1e-3)
+    weak = sa.StopZone(0.1, 0.05, 1.5)
+    tr = sa.simulate(sa.Scene(PROFILE, weak, until="rest"), method="moreau", h=1e-3)
+    assert tr.status is sa.Status.NEVER_STOPS and tr.x_end > weak.x_end and tr.info["net_advance"] > 0
+
+
+def test_fast_forward_equals_stepping():
+    """Sect. 6.2: the velocity becomes periodic, so whole periods are added as n * advance;
+    the end positions equal plain stepping (batched path, no fast-forward) to rounding."""
+    scene = sa.Scene(PROFILE, ZONE, x0=-5.0, periods=100)
+    tr = sa.simulate(scene, method="moreau", h=1e-3)
+    batch = solve_batch(PROFILE, ZONE, [-5.0], [0.0], 100, h=1e-3)
+    assert tr.info["fast_forward_periods"] > 0
+    assert tr.x_end == pytest.approx(batch.x_end[0], abs=1e-12)
+
+
+def test_batch_matches_scalar_path():
+    """Sect. 4.1: the batched path uses the same step formula; end states equal the scalar
+    runs bit for bit where no fast-forward occurs (slip-slip polynomial profile of Sect. 4.2,
+    and a list of profiles as in the Delta t sweep of Fig. 4)."""
+    poly = sa.PolynomialProfile(0.05, 0.02)
+    x0, v0 = np.array([0.0, 0.1, -0.2]), np.array([0.0, 0.5, -0.3])
+    batch = solve_batch(poly, sa.Uniform(), x0, v0, 3, h=1e-5)
+    for i in range(3):
+        tr = sa.simulate(sa.Scene(poly, x0=x0[i], v0=v0[i], periods=3), method="moreau", h=1e-5)
+        assert tr.info["fast_forward_periods"] == 0
+        assert (tr.x_end, tr.v_end) == (batch.x_end[i], batch.v_end[i])
+    profiles = [sa.PolynomialProfile(dt, 0.02) for dt in (0.04, 0.05, 0.08)]
+    sweep = solve_batch(profiles, sa.Uniform(), 0.0, 0.0, 3)
+    assert sweep.x_periods.shape == (4, 3) and sweep.steps_per_period == 1000
+    for i, prof in enumerate(profiles):
+        tr = sa.simulate(sa.Scene(prof, periods=3), method="moreau")
+        assert tr.x_end == pytest.approx(sweep.x_end[i], abs=1e-14)
+
+
+def test_batch_fixed_point_and_bad_input():
+    """Sect. 4.1: the batched fixed-point iteration agrees with the exact step to
+    S h fp_tol; bad h raises before work."""
+    x0 = np.linspace(0.3, 0.45, 4)
+    exact = solve_batch(PROFILE, ZONE, x0, 0.0, 5, h=1e-3)
+    fixed = solve_batch(PROFILE, ZONE, x0, 0.0, 5, h=1e-3, iteration="fixed_point", fp_tol=1e-12)
+    assert np.max(np.abs(exact.x_end - fixed.x_end)) <= 5 * 1050 * exact.h[0] * 1e-12 + 1e-14
+    with pytest.raises(ValueError, match="h"):
+        solve_batch(PROFILE, ZONE, x0, 0.0, 5, h=0.0)
