@@ -12,6 +12,8 @@ from .friction import StopZone, Uniform
 from .profiles import FourierProfile, PiecewiseConstantProfile, PolynomialProfile, ThreePhaseProfile
 from .scene import Record, Scene, load_scene, scene_from_dict
 from .simulate import simulate
+from .classification import classify
+from .steady_state import SteadyState, steady_state
 from .trajectory import EventKind, Status, Trajectory
 from .units import SIScale
 
@@ -22,6 +24,6 @@ except PackageNotFoundError:  # running from a source tree that is not installed
 
 __all__ = [
     "FourierProfile", "NonPhysicalProfile", "PiecewiseConstantProfile", "PolynomialProfile",
-    "Record", "SIScale", "Scene", "SceneError", "Status", "StopZone", "EventKind", "ThreePhaseProfile",
+    "Record", "SIScale", "Scene", "SceneError", "SteadyState", "classify", "steady_state", "Status", "StopZone", "EventKind", "ThreePhaseProfile",
     "Trajectory", "Uniform", "load_scene", "scene_from_dict", "simulate", "__version__",
 ]
