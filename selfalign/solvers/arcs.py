@@ -1,0 +1,199 @@
+"""Closed-form arcs of the inclusion x'' + y'' in -mu_bar(x) Sign(x') (eqs. 6, 38).
+
+Between two events the table acceleration a = y'' is constant (piecewise-constant
+profiles), the mode is fixed and mu_bar(x) is constant (uniform friction, and the
+regions x <= x_mu, x >= x_mu + w of a stop zone) or affine, mu_bar = 1 + b1 (x - x_mu)
+(the transition zone, eq. 9).  Every slip arc then solves a linear equation
+
+    x'' = acc0 + kappa (x - x0),      acc0 = -a - sigma mu_bar(x0),
+
+with sigma = +1 (forward slip) or -1 (backward slip) and kappa = 0 (uniform friction),
+-b1 (forward slip in the zone: the harmonic oscillator of eq. 42) or +b1 (backward slip
+in the zone: its hyperbolic counterpart).  With omega = sqrt(|kappa|) every arc is
+
+    x(s) = x0 + v0 S1(s) + acc0 S2(s),      v(s) = v0 C(s) + acc0 S1(s),
+
+    QUADRATIC:  C = 1,           S1 = s,                S2 = s^2 / 2                 (eqs. 15-20)
+    HARMONIC:   C = cos(w s),    S1 = sin(w s) / w,     S2 = 2 sin^2(w s / 2) / w^2  (eqs. 43-44)
+    HYPERBOLIC: C = cosh(w s),   S1 = sinh(w s) / w,    S2 = 2 sinh^2(w s / 2) / w^2
+
+where s is the time since the arc start.  This is eq. (43) rewritten about the start
+state (x_eq = x0 + acc0 / b1 = b3 / b1, d1 = -acc0 / b1, d2 = v0 / omega); written this
+way no term is the difference of two large ones, so positions keep full relative
+accuracy even for a tiny b1 or a short arc.  A STICK arc has v = 0 and x constant
+(eqs. 22-24).
+
+Functions taking ``xp`` evaluate on floats with ``xp=math`` (the default, fast in
+scalar loops) or elementwise on numpy arrays with ``xp=numpy``.  Event-time functions
+(:func:`zero_velocity_time`, :func:`crossing_time`) are scalar.
+"""
+
+from __future__ import annotations
+
+import math
+
+#: Arc kinds (the ``kind`` of :class:`selfalign.solvers.exact.Arc`).
+STICK, QUADRATIC, HARMONIC, HYPERBOLIC, SMOOTH = 0, 1, 2, 3, 4
+#: Printable names of the arc kinds.
+ARC_NAMES = {STICK: "stick", QUADRATIC: "quadratic", HARMONIC: "harmonic",
+             HYPERBOLIC: "hyperbolic", SMOOTH: "smooth"}
+
+_INF = math.inf
+
+
+def decide_mode(a: float, mu: float) -> int:
+    """Mode at zero relative velocity under table acceleration ``a`` (Sect. 3.2, DESIGN).
+
+    Stick (0) iff |a| <= mu (the tie |a| = mu sticks); otherwise slip in the direction
+    -sign(a): forward (+1) if a < -mu, backward (-1) if a > mu.
+    """
+    if a > mu:
+        return -1
+    if a < -mu:
+        return 1
+    return 0
+
+
+def slip_kind(in_zone: bool, sigma: int) -> int:
+    """Arc kind of a slip in direction ``sigma`` inside (``in_zone``) or outside the zone."""
+    if not in_zone:
+        return QUADRATIC
+    return HARMONIC if sigma > 0 else HYPERBOLIC
+
+
+def stiffness(kind: int, b1: float) -> float:
+    """kappa of x'' = acc0 + kappa (x - x0) for an arc of ``kind`` (0 for stick/quadratic)."""
+    if kind == HARMONIC:
+        return -b1
+    if kind == HYPERBOLIC:
+        return b1
+    return 0.0
+
+
+def basis(kind: int, omega: float, s, xp=math):
+    """(C, S1, S2) of the arc (module docstring) after time ``s``.
+
+    For STICK all three are 0, so that ``step`` gives no displacement and v = 0.
+    """
+    if kind == QUADRATIC:
+        return 1.0, s, 0.5 * s * s
+    if kind == HARMONIC:
+        half = xp.sin(0.5 * omega * s) / omega
+        return xp.cos(omega * s), xp.sin(omega * s) / omega, 2.0 * half * half
+    if kind == HYPERBOLIC:
+        half = xp.sinh(0.5 * omega * s) / omega
+        return xp.cosh(omega * s), xp.sinh(omega * s) / omega, 2.0 * half * half
+    if kind == STICK:
+        return 0.0, 0.0 * s, 0.0 * s
+    raise ValueError(f"arc kind must be one of {sorted(ARC_NAMES)[:4]} here, got {kind!r}")
+
+
+def step(kind: int, omega: float, v0, acc0, s, xp=math):
+    """Displacement x(s) - x0 and velocity v(s) of an arc started with (v0, acc0).
+
+    The displacement does not depend on x0, so a uniform-friction period advanced
+    from the same velocity gives bit-identical displacements wherever it starts
+    (used by the steady-state fast-forward).
+    """
+    c, s1, s2 = basis(kind, omega, s, xp)
+    return v0 * s1 + acc0 * s2, v0 * c + acc0 * s1
+
+
+def acceleration(kind: int, b1: float, acc0, dx):
+    """Relative acceleration x'' after a displacement ``dx`` from the arc start."""
+    if kind == STICK:
+        return 0.0 * dx
+    return acc0 + stiffness(kind, b1) * dx
+
+
+def fundamental_matrix(kind: int, omega: float, s, xp=math):
+    """d(x(s), v(s)) / d(x0, v0) of an arc of duration ``s``, as ((m11, m12), (m21, m22)).
+
+    Slip arcs: ((C, S1), (kappa S1, C)), with kappa = -omega^2 (harmonic), +omega^2
+    (hyperbolic), 0 (quadratic), because acc0 depends on x0 through mu_bar (eq. 38).
+    STICK: ((1, 0), (0, 0)): while |y''| < mu_bar a velocity perturbation is absorbed
+    by the stick at once, a position perturbation is kept.  Event saltation matrices
+    (built from the pre/post-event accelerations of the event log) are separate.
+    """
+    if kind == STICK:
+        return (1.0, 0.0 * s), (0.0 * s, 0.0 * s)
+    c, s1, _ = basis(kind, omega, s, xp)
+    return (c, s1), (stiffness(kind, omega * omega) * s1, c)
+
+
+def first_positive_root(a: float, b: float, c: float) -> float:
+    """Smallest root t > 0 of a t^2 + b t + c = 0, or inf.
+
+    Uses q = -(b + sign(b) sqrt(b^2 - 4ac)) / 2 and the roots q / a, c / q
+    ("citardauq"), so both roots keep full relative accuracy: a small root
+    (an event just after the arc start) does not come from cancellation.
+    """
+    if a == 0.0:
+        if b == 0.0:
+            return _INF
+        t = -c / b
+        return t if t > 0.0 else _INF
+    disc = b * b - 4.0 * a * c
+    if disc < 0.0:
+        return _INF
+    q = -0.5 * (b + math.copysign(math.sqrt(disc), b))
+    if q == 0.0:  # b = 0 and c = 0: the only root is t = 0
+        return _INF
+    r1, r2 = q / a, c / q
+    if r1 > r2:
+        r1, r2 = r2, r1
+    if r1 > 0.0:
+        return r1
+    return r2 if r2 > 0.0 else _INF
+
+
+def zero_velocity_time(kind: int, omega: float, sigma: int, v0: float, acc0: float) -> float:
+    """First s >= 0 at which a slip arc in direction ``sigma`` reaches v = 0, or inf.
+
+    ``v0`` must be zero or have the sign of ``sigma``.
+
+    QUADRATIC: s = -v0 / acc0 if the arc decelerates (acc0 sigma < 0), eq. (21).
+    HARMONIC (forward): v(s) = v0 cos(w s) + (acc0 / w) sin(w s) = 0 first at
+        s = atan2(v0 w, -acc0) / w, in [0, pi / w]: eq. (47) generalised to every sign
+        of d1 = -acc0 / b1 (eq. 47's arcsin is the case d1 >= 0).
+    HYPERBOLIC (backward): tanh(w s) = -v0 w / acc0 needs acc0 > 0 and
+        acc0 + v0 w > 0 (else the mass runs away backwards); then
+        s = log1p(-2 v0 w / (acc0 + v0 w)) / (2 w) (the exponential form of atanh,
+        accurate for small and for large s).
+    """
+    if kind == QUADRATIC:
+        return -v0 / acc0 if acc0 * sigma < 0.0 else _INF
+    if kind == HARMONIC:
+        # + 0.0 turns v0 = -0.0 into +0.0, so that atan2 does not return -pi.
+        return math.atan2(v0 * omega + 0.0, -acc0) / omega
+    if kind == HYPERBOLIC:
+        if acc0 > 0.0:
+            den = acc0 + v0 * omega
+            if den > 0.0:
+                return math.log1p(-2.0 * v0 * omega / den) / (2.0 * omega)
+        return _INF
+    raise ValueError(f"zero_velocity_time needs a slip arc kind, got {kind!r}")
+
+
+def crossing_time(kind: int, omega: float, v0: float, acc0: float, delta: float) -> float:
+    """First s > 0 at which the arc reaches x = x_b, with ``delta = x0 - x_b``, or inf.
+
+    The position equation is reduced to a quadratic solved by
+    :func:`first_positive_root` (its constant term is delta itself, computed
+    directly, so crossings just after the start are accurate):
+
+    QUADRATIC:  (acc0 / 2) s^2 + v0 s + delta = 0;
+    HARMONIC:   with t = tan(w s / 2):  (delta + 2 acc0 / w^2) t^2 + 2 (v0 / w) t + delta = 0,
+                s = 2 atan(t) / w  (a forward-slip arc lasts at most pi / w);
+    HYPERBOLIC: with t = tanh(w s / 2): (2 acc0 / w^2 - delta) t^2 + 2 (v0 / w) t + delta = 0,
+                t in (0, 1), s = log1p(2 t / (1 - t)) / w.
+    """
+    if kind == QUADRATIC:
+        return first_positive_root(0.5 * acc0, v0, delta)
+    if kind == HARMONIC:
+        t = first_positive_root(delta + 2.0 * acc0 / (omega * omega), 2.0 * v0 / omega, delta)
+        return 2.0 * math.atan(t) / omega if t < _INF else _INF
+    if kind == HYPERBOLIC:
+        t = first_positive_root(2.0 * acc0 / (omega * omega) - delta, 2.0 * v0 / omega, delta)
+        return math.log1p(2.0 * t / (1.0 - t)) / omega if t < 1.0 else _INF
+    raise ValueError(f"crossing_time needs a slip arc kind, got {kind!r}")
