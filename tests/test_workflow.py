@@ -60,10 +60,18 @@ def test_malformed_scene_stops_before_any_job(workdir, old, new, key):
     assert not (workdir / "results").exists() and not (workdir / "figures").exists()
 
 
+def trajectory_targets(workdir):
+    """The trajectory stage's outputs only, so this test does not run the later stages."""
+    config = yaml.safe_load((workdir / "workflow/config/config.yaml").read_text())
+    return [f"results/trajectory/{name}.h5" for name in config["stages"]["trajectory"]["scenes"]] + [
+        "figures/fig07.png"]
+
+
 def test_trajectory_stage_end_to_end(workdir):
     """The workflow profile builds every trajectory result and Fig. 7; afterwards nothing is
     left to do, and restyling the figure (dpi) reruns the plot only, not the data."""
-    rc, out = snakemake(workdir, "--workflow-profile", "workflow/profiles/default")
+    targets = trajectory_targets(workdir)
+    rc, out = snakemake(workdir, "--workflow-profile", "workflow/profiles/default", *targets)
     assert rc == 0, out
     result = read_h5(workdir / "results/trajectory/fig07.h5")
     d, a = result["datasets"], result["attrs"]
@@ -75,12 +83,12 @@ def test_trajectory_stage_end_to_end(workdir):
     assert scene_from_dict(yaml.safe_load(a["scene"])).to_dict() == scene.to_dict()
     assert (workdir / "figures/fig07.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
-    rc, out = snakemake(workdir, "-n", "-c1")
+    rc, out = snakemake(workdir, "-n", "-c1", *targets)
     assert rc == 0 and NOTHING_TO_DO in out, out
 
     config = workdir / "workflow/config/config.yaml"
     config.write_text(config.read_text().replace("dpi: 150", "dpi: 80"))
-    rc, out = snakemake(workdir, "-n", "-c1")
+    rc, out = snakemake(workdir, "-n", "-c1", *targets)
     assert rc == 0 and "plot_fig07" in out and "generate_trajectory" not in out, out
 
 
