@@ -5,8 +5,6 @@ Dynamics 65:109-129 (2011).  Only light modules are imported here; solvers,
 plotting and recording load on first use.
 """
 
-from importlib.metadata import PackageNotFoundError, version as _version
-
 from .errors import NonPhysicalProfile, SceneError
 from .friction import StopZone, Uniform
 from .profiles import FourierProfile, PiecewiseConstantProfile, PolynomialProfile, ThreePhaseProfile
@@ -17,10 +15,18 @@ from .steady_state import SteadyState, steady_state
 from .trajectory import EventKind, Status, Trajectory
 from .units import SIScale
 
-try:
-    __version__ = _version("selfalign")
-except PackageNotFoundError:  # running from a source tree that is not installed
-    __version__ = "0.0.0+unknown"
+
+
+def __getattr__(name):
+    # importlib.metadata costs a third of the import time; look the version up on first use.
+    if name == "__version__":
+        from importlib.metadata import PackageNotFoundError, version
+
+        try:
+            return version("selfalign")
+        except PackageNotFoundError:  # running from a source tree that is not installed
+            return "0.0.0+unknown"
+    raise AttributeError(f"module 'selfalign' has no attribute {name!r}")
 
 __all__ = [
     "FourierProfile", "NonPhysicalProfile", "PiecewiseConstantProfile", "PolynomialProfile",
