@@ -52,10 +52,17 @@ class PiecewiseConstantProfile(Profile):
     piecewise_constant = True
 
     def __init__(self, breaks, accels, y_start: float, yd_start: float):
+        y_start = check_finite("y_start", y_start)
+        yd_start = check_finite("yd_start", yd_start)
         breaks = np.asarray(breaks, dtype=float)
         accels = np.asarray(accels, dtype=float)
-        if breaks.ndim != 1 or accels.shape != (breaks.size - 1,):
-            raise ValueError("breaks must have one entry more than accels")
+        if breaks.ndim != 1 or breaks.size < 2 or accels.shape != (breaks.size - 1,):
+            raise ValueError("breaks must be 1-D with at least two entries and one entry more than accels")
+        if not np.all(np.isfinite(breaks)) or breaks[0] != 0.0 or np.any(np.diff(breaks) < 0) \
+                or breaks[-1] <= 0.0:
+            raise ValueError(f"breaks must be finite, start at 0, never decrease and end at dt > 0, got {breaks.tolist()}")
+        if not np.all(np.isfinite(accels)):
+            raise ValueError(f"accels must be finite, got {accels.tolist()}")
         keep = np.diff(breaks) > 0
         self.breaks = np.concatenate([breaks[:1], breaks[1:][keep]])
         self.accels = accels[keep]
