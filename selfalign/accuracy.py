@@ -1,0 +1,275 @@
+"""Work-precision study: Moreau time-stepping and solve_ivp against the exact solver.
+
+For one scene (a fixed horizon of N >= 2 periods) every method is run through
+:func:`selfalign.simulate` and compared with the exact event-driven solver, the
+reference:
+
+* Moreau time-stepping over a geometric range of steps per period (h = dt / n);
+* ``solve_ivp`` (DOP853) over a geometric range of relative tolerances, with
+  ``atol = atol_factor * rtol`` (positions are O(0.01-1), so atol only matters
+  near x = 0);
+* the exact solver once.
+
+Measured per run: the **end-position error** |x(N) - x_ref(N)| and the **error of
+the average velocity** vbar = (x(N) - x(N - 1)) / dt over the last period (eq. 10
+taken over one period; in steady state this is the paper's vbar), against the
+**CPU time** (``time.process_time`` around one ``simulate`` call over the N
+periods).  x(N - 1) comes from a second, untimed call over N - 1 periods: the
+solvers are deterministic, so it is the state the timed run passes at that time
+(up to rounding).  Runs shorter than ``min_timing`` are repeated and the fastest
+is kept (like ``timeit``), after one untimed warm-up per method so that no import
+is timed.
+
+Derived numbers:
+
+* **Moreau order**: Theil-Sen slope of log(error) against log(h) over the runs with
+  n >= ``fit_min_steps_per_period`` (the pre-asymptotic coarse steps are left out)
+  and errors above 100 times the rounding level.  Theil-Sen (the median of pairwise
+  slopes) because the error constant of a first-order scheme at a discontinuity
+  depends on where the switch and stick times fall within a step, which scatters
+  single points by up to a factor of ~30; a least-squares fit is pulled by the
+  lucky cancellations.
+* **CPU time at the target error** (1e-6): the step h* at which the fitted error
+  line reaches the target, and the CPU time at h* interpolated linearly on the
+  log-log curve of CPU time against h (extrapolated from the end segment, and
+  flagged, when h* is outside the measured range).  The **speed ratio** is that
+  time over the exact solver's.
+* **ivp agreement**: the largest ratio err_end / rtol over the tolerances.
+* **Exact events per second**: the exact solver once more with the event log on,
+  which switches its steady-state fast-forward off (every event is computed).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import asdict, dataclass
+
+import numpy as np
+
+from .scene import Record, Scene
+from .simulate import simulate
+
+#: Double-precision unit roundoff scale used for the rounding levels.
+_EPS = np.finfo(float).eps
+#: Repeats of one timed run at most (short runs are repeated until min_timing).
+MAX_REPEATS = 1000
+
+
+@dataclass(frozen=True)
+class StudySettings:
+    """What :func:`study` runs.  Ranges are ``(from, to, count)``, geometric, both ends included."""
+
+    moreau_steps_per_period: tuple[float, float, int] = (10, 1_000_000, 21)
+    ivp_rtol: tuple[float, float, int] = (1e-3, 1e-11, 5)
+    ivp_atol_factor: float = 1e-2
+    fit_min_steps_per_period: float = 100
+    target_error: float = 1e-6
+    min_timing: float = 0.05
+
+    def __post_init__(self):
+        for name in ("moreau_steps_per_period", "ivp_rtol"):
+            lo, hi, count = getattr(self, name)
+            if not (lo > 0 and hi > 0 and int(count) == count and count >= 2):
+                raise ValueError(f"{name} must be (from > 0, to > 0, count >= 2 integer), got {(lo, hi, count)}")
+        if min(self.moreau_steps_per_period[:2]) < 1:
+            raise ValueError(f"moreau_steps_per_period must be >= 1, got {self.moreau_steps_per_period}")
+        if max(self.ivp_rtol[:2]) >= 1:
+            raise ValueError(f"ivp_rtol must be < 1, got {self.ivp_rtol}")
+        for name in ("ivp_atol_factor", "fit_min_steps_per_period", "target_error", "min_timing"):
+            value = getattr(self, name)
+            if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+                raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+
+    @classmethod
+    def from_config(cls, config: dict) -> "StudySettings":
+        """Settings from the workflow config block (ranges as ``{from, to, count}``)."""
+        def rng(block):
+            return (block["from"], block["to"], block["count"])
+
+        values = dict(config)
+        for name in ("moreau_steps_per_period", "ivp_rtol"):
+            if name in values:
+                values[name] = rng(values[name])
+        unknown = sorted(set(values) - set(cls.__dataclass_fields__))
+        if unknown:
+            raise ValueError(f"unknown accuracy setting(s) {unknown}; allowed: {sorted(cls.__dataclass_fields__)}")
+        return cls(**values)
+
+    def steps_per_period(self) -> np.ndarray:
+        """Distinct integer steps per period n (h = dt / n), ascending."""
+        lo, hi, count = self.moreau_steps_per_period
+        return np.unique(np.round(np.geomspace(lo, hi, int(count))).astype(np.int64))
+
+    def rtols(self) -> np.ndarray:
+        """Relative tolerances of solve_ivp, descending (coarse first)."""
+        lo, hi, count = self.ivp_rtol
+        return np.sort(np.geomspace(lo, hi, int(count)))[::-1]
+
+
+@dataclass(frozen=True)
+class Run:
+    """One timed run: end state of the last two periods, cost and outcome."""
+
+    x_prev: float
+    x_end: float
+    vbar: float
+    cpu_time: float
+    steps: int
+    events: int
+    status: str
+
+
+def _check_scene(scene: Scene) -> None:
+    if scene.until != "periods" or scene.horizon_periods < 2:
+        raise ValueError(f"scene {scene.name!r}: the accuracy study needs horizon.periods >= 2 "
+                         f"(the average velocity is taken over the last period), got "
+                         f"{'until: rest' if scene.until == 'rest' else scene.periods}")
+
+
+def best_time(call, min_timing: float):
+    """(result of ``call()``, its smallest CPU time); repeated until the times add up to ``min_timing``."""
+    best, total, repeats = math.inf, 0.0, 0
+    while repeats == 0 or (total < min_timing and repeats < MAX_REPEATS):
+        start = time.process_time()
+        result = call()
+        elapsed = time.process_time() - start
+        best, total, repeats = min(best, elapsed), total + elapsed, repeats + 1
+    return result, best
+
+
+def timed_run(scene: Scene, method: str, options: dict, min_timing: float) -> Run:
+    """Run ``scene`` with ``method``: x(N - 1) untimed, then x(N) timed as described above."""
+    _check_scene(scene)
+    scene = scene.replace(record=Record())
+    head = simulate(scene.replace(periods=scene.horizon_periods - 1), method, **options)
+    full, best = best_time(lambda: simulate(scene, method, **options), min_timing)
+    return Run(x_prev=float(head.x_end), x_end=float(full.x_end),
+               vbar=(full.x_end - head.x_end) / scene.profile.dt, cpu_time=best,
+               steps=int(full.stats.get("steps", 0)), events=int(full.stats.get("events", 0)),
+               status=full.status.value)
+
+
+def fit_loglog(x, y) -> tuple[float, float, float, float]:
+    """Theil-Sen fit of log y = intercept + slope log x: (slope, intercept, low, high), 95 % interval."""
+    from scipy.stats import theilslopes
+
+    x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
+    if x.size < 3:
+        raise ValueError(f"a log-log fit needs at least 3 points, got {x.size}")
+    res = theilslopes(np.log(y), np.log(x))
+    return float(res.slope), float(res.intercept), float(res.low_slope), float(res.high_slope)
+
+
+def loglog_interpolate(x0: float, x, y) -> tuple[float, bool]:
+    """y at x0 by linear interpolation of log y over log x; (value, inside the range of x).
+
+    Outside the range the end segment is extended.
+    """
+    order = np.argsort(x)
+    lx, ly = np.log(np.asarray(x, dtype=float)[order]), np.log(np.asarray(y, dtype=float)[order])
+    l0 = math.log(x0)
+    inside = bool(lx[0] <= l0 <= lx[-1])
+    i = int(np.clip(np.searchsorted(lx, l0) - 1, 0, lx.size - 2))
+    slope = (ly[i + 1] - ly[i]) / (lx[i + 1] - lx[i])
+    return float(math.exp(ly[i] + slope * (l0 - lx[i]))), inside
+
+
+def _warm_up(scene: Scene) -> None:
+    """One untimed short call per method, so that imports are not timed."""
+    short = scene.replace(periods=1, record=Record())
+    for method in ("exact", "moreau", "ivp"):
+        simulate(short, method)
+
+
+def _table(runs: list[Run], ref: Run) -> dict[str, np.ndarray]:
+    return {
+        "cpu_time": np.array([r.cpu_time for r in runs]),
+        "err_end_position": np.array([abs(r.x_end - ref.x_end) for r in runs]),
+        "err_vbar": np.array([abs(r.vbar - ref.vbar) for r in runs]),
+        "x_end": np.array([r.x_end for r in runs]),
+        "vbar": np.array([r.vbar for r in runs]),
+        "steps": np.array([r.steps for r in runs], dtype=np.int64),
+        "events": np.array([r.events for r in runs], dtype=np.int64),
+        "status": np.array([r.status for r in runs], dtype=str),
+    }
+
+
+def study(scene: Scene, settings: StudySettings = StudySettings()) -> tuple[dict, dict, dict]:
+    """Run the work-precision study of ``scene``: (datasets, attrs, groups) for :func:`write_h5`.
+
+    Layout: root attributes with the derived numbers (``moreau_order`` with its
+    95 % interval ``moreau_order_low/high``, the order of the vbar error
+    ``moreau_order_vbar`` and the number of fitted runs ``moreau_fit_points``;
+    ``moreau_h_at_target``, ``moreau_cpu_at_target``, ``target_interpolated``,
+    ``speed_ratio_at_target``; ``ivp_max_err_over_rtol``;
+    ``exact_events_per_second``; ``rounding_level_position`` = 4 eps max|x| and
+    ``rounding_level_vbar`` = 2 rounding_level_position / dt; ``x_ref_end``,
+    ``vbar_ref``; ``target_error``; ``settings``; ``scene_name``, ``scene``); group
+    ``moreau`` with datasets ``h``, ``steps_per_period`` and the :func:`_table`
+    columns; group ``ivp`` with ``rtol``, ``atol`` and the same columns; group
+    ``exact`` with attributes ``cpu_time``, ``x_end``, ``vbar``, ``steps``,
+    ``events``, ``status``, ``events_run_events``, ``events_run_cpu_time``.
+    """
+    import yaml
+
+    _check_scene(scene)
+    dt = float(scene.profile.dt)
+    _warm_up(scene)
+
+    ref = timed_run(scene, "exact", {}, settings.min_timing)
+    steps_per_period = settings.steps_per_period()
+    moreau = [timed_run(scene, "moreau", {"h": dt / int(n)}, settings.min_timing) for n in steps_per_period]
+    rtols = settings.rtols()
+    atols = settings.ivp_atol_factor * rtols
+    ivp = [timed_run(scene, "ivp", {"rtol": float(r), "atol": float(a)}, settings.min_timing)
+           for r, a in zip(rtols, atols)]
+
+    # Events per second of the exact solver computing every event (the event log switches
+    # its steady-state fast-forward off); best of repeats like every other timing.
+    logged = scene.replace(record=Record(events=True))
+    traj, best = best_time(lambda: simulate(logged, "exact"), settings.min_timing)
+    events_run = int(traj.stats["events"])
+
+    level_x = 4.0 * _EPS * max(abs(scene.x0), abs(ref.x_end), abs(ref.x_prev))
+    level_v = 2.0 * level_x / dt
+    m_table = _table(moreau, ref)
+    h = dt / steps_per_period.astype(float)
+    fit = (steps_per_period >= settings.fit_min_steps_per_period)
+    use = fit & (m_table["err_end_position"] > 100 * level_x)
+    order, intercept, low, high = fit_loglog(h[use], m_table["err_end_position"][use])
+    use_v = fit & (m_table["err_vbar"] > 100 * level_v)
+    order_v = fit_loglog(h[use_v], m_table["err_vbar"][use_v])[0]
+    h_target = math.exp((math.log(settings.target_error) - intercept) / order)
+    cpu_target, inside = loglog_interpolate(h_target, h, m_table["cpu_time"])
+    i_table = _table(ivp, ref)
+
+    attrs = {
+        "scene_name": scene.name,
+        "scene": yaml.safe_dump(scene.to_dict(), sort_keys=False),
+        "settings": asdict(settings),
+        "target_error": settings.target_error,
+        "x_ref_end": ref.x_end,
+        "vbar_ref": ref.vbar,
+        "rounding_level_position": level_x,
+        "rounding_level_vbar": level_v,
+        "moreau_order": order,
+        "moreau_order_low": low,
+        "moreau_order_high": high,
+        "moreau_order_vbar": order_v,
+        "moreau_fit_points": int(use.sum()),
+        "moreau_h_at_target": h_target,
+        "moreau_cpu_at_target": cpu_target,
+        "target_interpolated": inside,
+        "speed_ratio_at_target": cpu_target / ref.cpu_time,
+        "ivp_max_err_over_rtol": float(np.max(i_table["err_end_position"] / rtols)),
+        "exact_events_per_second": events_run / best,
+    }
+    groups = {
+        "moreau": {"datasets": {"h": h, "steps_per_period": steps_per_period, **m_table}},
+        "ivp": {"datasets": {"rtol": rtols, "atol": atols, **i_table}},
+        "exact": {"attrs": {"cpu_time": ref.cpu_time, "x_end": ref.x_end, "vbar": ref.vbar,
+                            "steps": ref.steps, "events": ref.events, "status": ref.status,
+                            "events_run_events": events_run, "events_run_cpu_time": best}},
+    }
+    return {}, attrs, groups

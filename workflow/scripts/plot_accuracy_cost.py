@@ -1,0 +1,10 @@
+"""Work-precision figure (error against CPU time, all methods) from the accuracy results."""
+
+from selfalign.pipeline import logged, save_figure
+from selfalign.plots_simulation import figure_accuracy_cost
+from selfalign.results import read_h5
+
+with logged(snakemake.log[0]) as log:
+    fig = figure_accuracy_cost([read_h5(path) for path in snakemake.input])
+    save_figure(fig, snakemake.output[0], dpi=snakemake.params.dpi)
+    log.info("work-precision figure from %s written to %s", list(snakemake.input), snakemake.output[0])

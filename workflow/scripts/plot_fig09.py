@@ -1,0 +1,14 @@
+"""Fig. 9 (one steady-state time history per case of Table 1) from simulation results."""
+
+from selfalign.classification import CASE_LABELS, classify
+from selfalign.pipeline import logged, save_figure
+from selfalign.plots_simulation import figure_09
+from selfalign.results import read_h5
+from selfalign.simulation_results import scene_from_result
+
+with logged(snakemake.log[0]) as log:
+    results = [read_h5(path) for path in snakemake.input]
+    cases = [classify(scene_from_result(r).profile) for r in results]
+    fig = figure_09(results, cases, CASE_LABELS, periods=snakemake.params.periods)
+    save_figure(fig, snakemake.output[0], dpi=snakemake.params.dpi)
+    log.info("figure 9 (cases %s) from %s written to %s", cases, list(snakemake.input), snakemake.output[0])

@@ -1,0 +1,13 @@
+"""Simulate a scene into results/simulation/<scene>.h5 (method and options from the scene)."""
+
+from selfalign import load_scene, simulate
+from selfalign.pipeline import logged
+from selfalign.results import write_h5
+from selfalign.simulation_results import trajectory_content
+
+with logged(snakemake.log[0]) as log:
+    scene = load_scene(snakemake.input.scene)
+    traj = simulate(scene)
+    write_h5(snakemake.output[0], *trajectory_content(traj, scene))
+    log.info("%s: %s, %s (%s); %s written to %s", scene.name, traj.method, traj.status.value, traj.message,
+             traj.stats, snakemake.output[0])
