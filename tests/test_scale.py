@@ -1,0 +1,117 @@
+"""Scale and speed infrastructure: a light `import selfalign`, the SLURM workflow profile,
+and the benchmark functions (structure only; no timing is asserted)."""
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+
+import pytest
+
+from selfalign import benchmarks
+
+SNAKEMAKE = [sys.executable, "-m", "snakemake"]
+#: Modules that `import selfalign` must not load: they are imported where they are used.
+HEAVY = ("rerun", "matplotlib", "h5py", "scipy", "snakemake", "yaml", "jsonschema")
+
+
+def test_import_selfalign_loads_no_heavy_module():
+    """`import selfalign` loads numpy only; plotting, recording, HDF5, scipy, YAML parsing
+    and Snakemake load on first use (issue 8: the library imports fast)."""
+    code = "import sys, selfalign; print(' '.join(sorted(m for m in sys.modules if '.' not in m)))"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    loaded = set(out.split())
+    assert "selfalign" in loaded and "numpy" in loaded
+    assert loaded.isdisjoint(HEAVY), sorted(loaded & set(HEAVY))
+
+
+@pytest.fixture
+def workdir(repo, tmp_path):
+    """A copy of Snakefile + workflow/ (symlinks followed) and a PATH without any SLURM command."""
+    shutil.copy(repo / "Snakefile", tmp_path / "Snakefile")
+    shutil.copytree(repo / "workflow", tmp_path / "workflow")
+    return tmp_path
+
+
+def snakemake(workdir, *args, **env):
+    path = os.path.dirname(sys.executable) + os.pathsep + "/usr/bin:/bin"
+    assert shutil.which("sbatch", path=path) is None and shutil.which("sinfo", path=path) is None
+    environ = {k: v for k, v in os.environ.items() if not k.startswith(("SBATCH_", "SLURM_"))}
+    proc = subprocess.run([*SNAKEMAKE, *args], cwd=workdir, capture_output=True, text=True, timeout=300,
+                          env={**environ, "PATH": path, **env})
+    return proc.returncode, proc.stdout + proc.stderr
+
+
+def test_slurm_profile_dry_run_needs_no_slurm(workdir):
+    """`snakemake -n --workflow-profile workflow/profiles/slurm` plans every job with the profile's
+    resources on a machine without sbatch/sinfo; the partition comes from SBATCH_PARTITION and the
+    plot rules form one group job."""
+    rc, out = snakemake(workdir, "-n", "--workflow-profile", "workflow/profiles/slurm",
+                        SBATCH_PARTITION="short")
+    assert rc == 0, out
+    assert "Using workflow specific profile workflow/profiles/slurm" in out
+    assert "slurm_partition=short" in out and "runtime=10" in out and "cpus_per_task=1" in out
+    assert "Group job plots" in out
+    assert "generate_trajectory" in out and "run_benchmarks" not in out
+
+
+def test_slurm_profile_heavy_rule_resources_and_unknown_rules(workdir):
+    """set-resources reaches its rule (run_benchmarks: 2 cores, 4 GB); a rule name the workflow does
+    not define, in set-resources or groups, is ignored rather than an error."""
+    profile = workdir / "workflow/profiles/slurm/config.yaml"
+    text = profile.read_text()
+    text = text.replace("set-resources:\n", "set-resources:\n  no_such_rule:\n    runtime: 1\n")
+    text = text.replace("groups:\n", "groups:\n  no_such_rule: plots\n")
+    profile.write_text(text)
+    rc, out = snakemake(workdir, "-n", "--workflow-profile", "workflow/profiles/slurm", "benchmarks")
+    assert rc == 0, out
+    assert "slurm_partition=," in out  # unset: the cluster's default partition
+    assert "mem_mb=4000" in out and "cpus_per_task=2" in out and "runtime=30" in out
+
+
+def test_benchmarks_run_tiny_structure():
+    """Every benchmark runs in a tiny configuration and the table has one row per measurement."""
+    report = benchmarks.run(tiny=True)
+    assert {"platform", "cpu", "cores", "python", "numpy"} <= set(report["machine"])
+    (row,) = report["exact_vs_moreau"]
+    assert row["tolerance"] == 1e-2 and row["exact_s"] > 0 and row["moreau_s"] > 0
+    assert row["moreau_steps"] is None or row["moreau_error"] <= row["tolerance"]
+    assert [r["case"] for r in report["single_trajectory"]] == [
+        "uniform surface (quadratic arcs)", "transition zone (harmonic arcs)"]
+    assert all(r["events"] > 0 and r["events_per_s"] > 0 for r in report["single_trajectory"])
+    sweep = report["batched_sweep"]
+    assert [r["unit"] for r in sweep] == ["events", "events", "steps"]
+    assert all(r["count"] > 0 and r["trajectories"] == 64 for r in sweep)
+    assert all(r["fma_bound"] >= r["numpy_bound"] > 0 for r in sweep[:2])
+    assert report["pipeline"] is None and report["max_rss_mb"] > 0
+    table = benchmarks.format_table(report)
+    assert table.startswith(f"Machine: {report['machine']['cpu']}")
+    assert table.count("\n| ") == 2 + 1 + 2 + 3 + 1  # header, separator, one row per measurement
+    json.dumps(report)  # the raw numbers are JSON as written by the workflow
+
+
+def test_full_pipeline_times_a_copy(tmp_path):
+    """The pipeline benchmark runs `snakemake` in a copy and counts its outputs; the source tree
+    gets no results/ or figures/."""
+    repo = tmp_path / "repo"
+    (repo / "workflow").mkdir(parents=True)
+    (repo / "Snakefile").write_text(
+        'rule all:\n    input: "figures/a.png", "results/s/a.h5"\n\n'
+        'rule make:\n    output: "figures/{x}.png", "results/s/{x}.h5"\n'
+        '    shell: "touch {output}"\n')
+    result = benchmarks.full_pipeline(repo, cores=1)
+    assert result["figures"] == ["a.png"] and result["results"] == 1 and result["seconds"] > 0
+    assert not (repo / "results").exists() and not (repo / "figures").exists()
+    (repo / "Snakefile").write_text('rule all:\n    input: "missing"\n')
+    with pytest.raises(RuntimeError, match="failed in the benchmark copy"):
+        benchmarks.full_pipeline(repo, cores=1)
+
+
+def test_run_all_script_prints_the_table(repo, tmp_path):
+    """benchmarks/run_all.py --tiny --no-pipeline prints the table and writes the raw JSON."""
+    raw = tmp_path / "bench.json"
+    proc = subprocess.run([sys.executable, str(repo / "benchmarks/run_all.py"), "--tiny", "--no-pipeline",
+                           "--json", str(raw)], capture_output=True, text=True, timeout=120, check=True)
+    assert proc.stdout.startswith("Machine: ") and "| benchmark | result |" in proc.stdout
+    assert json.loads(raw.read_text())["pipeline"] is None
