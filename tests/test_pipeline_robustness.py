@@ -1,0 +1,156 @@
+"""The pipeline loses nothing (issue 7; README "Numerical robustness").
+
+Snakemake runs in a temporary copy of ``Snakefile`` + ``workflow/`` (as in
+tests/test_workflow.py), on a small fixed set of targets from two stages so that each
+run takes seconds: a run killed at a random (seeded) moment leaves only complete result
+files and the documented command finishes the rest; a malformed scene or config stops the
+run before any job, naming the file and the key; two runs give identical HDF5 datasets.
+"""
+
+import os
+import random
+import shutil
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+from selfalign.results import read_h5
+
+SNAKEMAKE = [sys.executable, "-m", "snakemake"]
+#: A few jobs of the trajectory and simulation stages (a full run takes minutes).
+TARGETS = ["results/trajectory/fig07.h5", "results/trajectory/polynomial.h5",
+           "results/simulation/fig09_case1.h5", "results/simulation/fig09_case4.h5",
+           "results/simulation/stop_zone.h5", "results/simulation/polynomial.h5"]
+
+
+@pytest.fixture
+def workdir(repo, tmp_path):
+    """A runnable copy of the workflow; the scene-schema symlink becomes a plain file."""
+    shutil.copy(repo / "Snakefile", tmp_path / "Snakefile")
+    shutil.copytree(repo / "workflow", tmp_path / "workflow")
+    return tmp_path
+
+
+def snakemake(workdir, *args):
+    proc = subprocess.run([*SNAKEMAKE, *args], cwd=workdir, capture_output=True, text=True, timeout=300)
+    return proc.returncode, proc.stdout + proc.stderr
+
+
+def result_files(workdir):
+    return sorted(p.relative_to(workdir).as_posix() for p in (workdir / "results").rglob("*.h5"))
+
+
+def datasets_of(content, prefix=""):
+    """Every dataset of a read_h5 result, nested groups included, by path."""
+    found = {prefix + name: np.asarray(v) for name, v in content["datasets"].items()}
+    for name, group in content["groups"].items():
+        found.update(datasets_of(group, f"{prefix}{name}/"))
+    return found
+
+
+def assert_complete(path):
+    """A result file opens and holds data (an interrupted write would not)."""
+    content = read_h5(path)
+    assert content["attrs"]["selfalign_version"], path
+    data = datasets_of(content)
+    assert any(values.size for values in data.values()), path
+
+
+def test_killed_run_leaves_complete_files_and_the_rerun_finishes(workdir):
+    """SIGKILL to the whole process group of `snakemake -c2` after a seeded random delay
+    (between 1.5 s and 5 s, i.e. while jobs are running): every results/**/*.h5 that exists
+    opens and is complete (atomic writes, no half-written file under a result name), and
+    `snakemake --unlock` followed by `snakemake -c2 --rerun-incomplete` (README) builds the
+    rest."""
+    delay = random.Random(7).uniform(1.5, 5.0)
+    proc = subprocess.Popen([*SNAKEMAKE, "-c2", *TARGETS], cwd=workdir, stdout=subprocess.DEVNULL,
+                            stderr=subprocess.DEVNULL, start_new_session=True)
+    try:
+        proc.wait(timeout=delay)
+    except subprocess.TimeoutExpired:
+        os.killpg(proc.pid, signal.SIGKILL)
+        proc.wait(timeout=30)
+    time.sleep(0.2)  # let killed children disappear before reading their directory
+    survivors = result_files(workdir) if (workdir / "results").exists() else []
+    assert len(survivors) < len(TARGETS), "the run finished before the kill; shorten the delay"
+    for name in survivors:
+        assert_complete(workdir / name)
+
+    rc, out = snakemake(workdir, "--unlock")
+    assert rc == 0, out
+    rc, out = snakemake(workdir, "-c2", "--rerun-incomplete", *TARGETS)
+    assert rc == 0, out
+    assert result_files(workdir) == sorted(TARGETS)
+    for name in TARGETS:
+        assert_complete(workdir / name)
+
+
+def test_identical_inputs_give_identical_datasets(repo, tmp_path):
+    """Two runs of the same targets in two fresh copies give bit-identical HDF5 datasets
+    (in every group) and identical root attributes (no time stamps or host names; CPU times
+    live in the ``stats`` group's attributes and are not compared)."""
+    runs = []
+    for copy in ("a", "b"):
+        work = tmp_path / copy
+        work.mkdir()
+        shutil.copy(repo / "Snakefile", work / "Snakefile")
+        shutil.copytree(repo / "workflow", work / "workflow")
+        rc, out = snakemake(work, "-c2", *TARGETS)
+        assert rc == 0, out
+        runs.append({name: read_h5(work / name) for name in TARGETS})
+    a, b = runs
+    for name in TARGETS:
+        x, y = datasets_of(a[name]), datasets_of(b[name])
+        assert x.keys() == y.keys(), name
+        for key in x:
+            assert x[key].dtype == y[key].dtype and x[key].shape == y[key].shape, (name, key)
+            assert x[key].tobytes() == y[key].tobytes(), (name, key)
+        assert repr(a[name]["attrs"]) == repr(b[name]["attrs"]), name
+
+
+@pytest.mark.parametrize("old, new, key", [
+    ("dt: 0.05", "dt: .nan", "profile.dt"),
+    ("horizon: {periods: 3}", "horizon: {periods: 0}", "horizon.periods"),
+])
+def test_malformed_scene_stops_before_any_job(workdir, old, new, key):
+    """A scene with a non-finite or out-of-range value stops the run at parse time with one
+    message naming the scene file and the key; nothing is written."""
+    scene = workdir / "workflow/scenes/polynomial.yaml"
+    assert old in scene.read_text()
+    scene.write_text(scene.read_text().replace(old, new))
+    rc, out = snakemake(workdir, "-c2", *TARGETS)
+    assert rc != 0
+    assert f"workflow/scenes/polynomial.yaml: {key}" in out, out
+    assert not (workdir / "results").exists()
+
+
+@pytest.mark.parametrize("old, new, keys", [
+    ("dpi: 150", "dpi: -150", ("figures.dpi", "['figures']['dpi']")),
+    ("scenes_dir: workflow/scenes", "scenez_dir: workflow/scenes", ("scenez_dir",)),
+])
+def test_malformed_config_stops_before_any_job(workdir, old, new, keys):
+    """A config value out of range, or a misspelt key, stops the run before any job with a
+    message naming the config file and the key; nothing is written."""
+    config = workdir / "workflow/config/config.yaml"
+    assert old in config.read_text()
+    config.write_text(config.read_text().replace(old, new))
+    rc, out = snakemake(workdir, "-c2", *TARGETS)
+    assert rc != 0
+    assert "workflow/config/config.yaml" in out, out
+    assert any(key in out for key in keys), out
+    assert not (workdir / "results").exists()
+
+
+def test_config_naming_a_missing_scene_stops_before_any_job(workdir):
+    """A config that names a scene without a file stops the run before any job, naming the
+    missing scene file."""
+    config = workdir / "workflow/config/config.yaml"
+    config.write_text(config.read_text().replace("scenes: [fig07,", "scenes: [no_such_scene, fig07,", 1))
+    rc, out = snakemake(workdir, "-c2", *TARGETS)
+    assert rc != 0
+    assert "workflow/scenes/no_such_scene.yaml" in out, out
+    assert not (workdir / "results").exists()
