@@ -1,0 +1,505 @@
+"""Floquet multipliers of the steady state, three ways (Sect. 6.1).
+
+The monodromy matrix M = Phi(t0 + k dt, t0) maps a perturbation (dx, dx') of the
+periodic motion at the period start t0 = phase * dt to the perturbation k periods
+later (eq. 25; k = 1 except for a k-periodic motion); its eigenvalues are the
+Floquet multipliers.  :func:`floquet` computes it by
+
+``method="analytic"``
+    the linearisation of the closed-form one-period map, eqs. (25)-(33), for every
+    case of Table 1 including pure stick (case 5, which the paper leaves out); the
+    closed forms are in :mod:`selfalign.steady_state`.  Three-phase profile on a
+    uniform surface at t0 = 0 only.
+
+``method="saltation"``
+    fundamental matrices of the smooth arcs of the exact solver, joined by
+    saltation matrices at its events (Leine & Nijmeijer, ref. [11] of the paper):
+
+        M = Phi_n S_n ... S_2 Phi_2 S_1 Phi_1.
+
+    Works for everything the exact solver handles (piecewise-constant and Fourier
+    profiles, uniform surface or stop zone), e.g. a periodic motion inside the
+    transition zone, where no position freedom exists and both multipliers are
+    below 1.  See :func:`saltation_matrix` for the matrix of each event kind.
+
+``method="numeric"``
+    central finite differences of the k-period map (the paper's method 3), with
+    the exact solver (``solver="exact"``) or with Moreau time stepping
+    (``solver="moreau"``, step ``h``).  The time-stepping map is a staircase in
+    x' at the scale of one step (a step whose velocity lands in the stick window
+    |v| <= h mu_bar of the implicit friction impulse erases a perturbation, any
+    other step passes it on unchanged), so its local derivative is 0 or 1; only
+    a secant with h << eps averages it, with an error ~ lambda2 h / eps (README,
+    "Stability").  Hence the default eps = sqrt(h) for Moreau.
+
+The periodic motion is started from the closed-form steady state
+(:func:`selfalign.steady_state.steady_state`: x'(0) = v0) for a three-phase
+profile on a uniform surface at phase 0, and is otherwise found by simulating
+with the exact solver until the state at the period boundary repeats bit for bit
+((x', mode) on a uniform surface, where the motion is invariant under shifts in
+x; (x, x', mode) on a stop zone) with the shortest period k <= 8.
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .friction import StopZone, Uniform
+from .profiles import Profile, ThreePhaseProfile
+from .scene import Scene
+from .solvers import arcs as _arcs
+from .solvers.exact import ExactSolver
+from .trajectory import EventKind
+
+METHODS = ("analytic", "saltation", "numeric")
+NUMERIC_SOLVERS = ("exact", "moreau")
+#: Options of each method, with their defaults.  ``max_periods`` bounds the search for
+#: the periodic motion; ``eps`` is the finite-difference step in x and x' (None:
+#: :data:`EXACT_EPS` with the exact solver, sqrt(h) with Moreau, see :func:`floquet`);
+#: ``h`` the Moreau time step (None: dt / 1000).
+DEFAULT_OPTIONS = {
+    "analytic": {},
+    "saltation": {"max_periods": 10_000},
+    "numeric": {"solver": "exact", "eps": None, "h": None, "max_periods": 10_000},
+}
+#: Default finite-difference step with the exact solver: the period map is piecewise
+#: smooth, so central differences are exact to O(eps^2) on smooth pieces and to O(eps)
+#: where a stick makes the map kink (x(dt) gains +-dv^2/2 for either sign of dv).
+EXACT_EPS = 1e-7
+#: Longest k of a k-periodic motion looked for.
+MAX_CYCLE = 8
+
+
+@dataclass(frozen=True)
+class PeriodicMotion:
+    """A periodic motion: state (x0, v0) at time phase * dt repeats after ``periods``
+    periods (on a uniform surface up to a shift of x by ``advance``).  ``source`` says
+    how it was found: "closed form" or "simulated N periods"."""
+
+    profile: Profile
+    surface: Uniform | StopZone
+    x0: float
+    v0: float
+    phase: float
+    periods: int
+    advance: float
+    source: str
+
+
+@dataclass(frozen=True)
+class FloquetResult:
+    """Monodromy matrix (2x2, of (x, x') over ``motion.periods`` periods from the period
+    start phase * dt) and its eigenvalues ``multipliers``, sorted by decreasing modulus
+    (real dtype when both are real), with unit ``eigenvectors`` as columns in the
+    same order.  ``info``: method details (events used, eps, h, ...)."""
+
+    method: str
+    monodromy: np.ndarray
+    multipliers: np.ndarray
+    eigenvectors: np.ndarray
+    motion: PeriodicMotion
+    info: dict = field(default_factory=dict)
+
+
+# --------------------------------------------------------------------------------------
+# Input, options, periodic motion
+# --------------------------------------------------------------------------------------
+
+def _system(profile_or_scene):
+    """(profile, surface, x0, v0, phase) of a Scene, or of a profile on a uniform surface."""
+    if isinstance(profile_or_scene, Scene):
+        s = profile_or_scene
+        return s.profile, s.surface, s.x0, s.v0, s.phase
+    if isinstance(profile_or_scene, Profile):
+        return profile_or_scene, Uniform(), 0.0, 0.0, 0.0
+    raise ValueError(f"floquet needs a selfalign profile or Scene, got {type(profile_or_scene).__name__}")
+
+
+def _check_options(method, options):
+    if method not in METHODS:
+        raise ValueError(f"method must be one of {list(METHODS)}, got {method!r}")
+    allowed = DEFAULT_OPTIONS[method]
+    unknown = sorted(set(options) - set(allowed))
+    if unknown:
+        raise ValueError(f"unknown option(s) {unknown} for method {method!r}; allowed: {sorted(allowed)}")
+    opts = {**allowed, **options}
+    if "max_periods" in opts:
+        mp = opts["max_periods"]
+        if isinstance(mp, bool) or not isinstance(mp, numbers.Integral) or mp < 1:
+            raise ValueError(f"option max_periods must be an integer >= 1, got {mp!r}")
+    if method == "numeric":
+        if opts["solver"] not in NUMERIC_SOLVERS:
+            raise ValueError(f"option solver must be one of {list(NUMERIC_SOLVERS)}, got {opts['solver']!r}")
+        eps = opts["eps"]
+        if eps is not None and (isinstance(eps, bool) or not isinstance(eps, numbers.Real)
+                                or not 0.0 < eps < 1.0):
+            raise ValueError(f"option eps (finite-difference step) must be a number in (0, 1), got {eps!r}")
+        h = opts["h"]
+        if opts["solver"] == "exact" and h is not None:
+            raise ValueError("option h (time step) applies to solver='moreau' only")
+        if h is not None and (isinstance(h, bool) or not isinstance(h, numbers.Real) or not h > 0.0):
+            raise ValueError(f"option h (time step) must be a number > 0, got {h!r}")
+    return opts
+
+
+def _closed_form_applies(profile, surface, phase):
+    return isinstance(profile, ThreePhaseProfile) and isinstance(surface, Uniform) and phase == 0.0
+
+
+def periodic_motion(profile_or_scene, max_periods: int = 10_000) -> PeriodicMotion:
+    """The steady periodic motion the monodromy is taken about (module docstring).
+
+    Raises ValueError when no period-boundary state repeats within ``max_periods``
+    periods (e.g. an accumulation, Sect. 7.3, or a chaotic motion).
+    """
+    profile, surface, x0, v0, phase = _system(profile_or_scene)
+    if _closed_form_applies(profile, surface, phase):
+        from .steady_state import steady_state
+
+        ss = steady_state(profile)
+        return PeriodicMotion(profile, surface, x0, ss.v0, phase, 1, ss.vbar * profile.dt, "closed form")
+    solver = ExactSolver(profile, surface, x0, v0, phase, record=False)
+    uniform = isinstance(surface, Uniform)
+    history = [(solver.xi, solver.v, solver.mode)]
+    advances = []
+    for n in range(1, max_periods + 1):
+        step = solver.step_period()
+        advances.append(step.advance)
+        state = (solver.xi, solver.v, solver.mode)
+        for k in range(1, min(MAX_CYCLE, n) + 1):
+            old = history[-k]
+            if old[1:] == state[1:] and (uniform or old[0] == state[0]):
+                # On a stop zone the state repeats exactly: no net advance.
+                advance = float(sum(advances[-k:])) if uniform else 0.0
+                return PeriodicMotion(profile, surface, solver.x, solver.v, phase, k, advance,
+                                      f"simulated {n} periods")
+        history.append(state)
+        del history[:-MAX_CYCLE]
+    raise ValueError(f"no periodic motion found: the state at the period boundary did not repeat with a "
+                     f"period <= {MAX_CYCLE} within max_periods = {max_periods} periods")
+
+
+# --------------------------------------------------------------------------------------
+# Saltation matrices
+# --------------------------------------------------------------------------------------
+
+def saltation_matrix(kind, v: float, acc_before: float, acc_after: float) -> np.ndarray:
+    """Saltation matrix of one event of the exact solver's log, state z = (x, x').
+
+    The vector field f = (x', x'') jumps from f- = (v, acc_before) to
+    f+ = (v, acc_after) on an event surface h(z, t) = 0.  To first order a
+    perturbation dz- just before the event becomes (Leine & Nijmeijer, ref. [11])
+
+        dz+ = S dz-,   S = I + (f+ - f-) n^T / (n^T f- + dh/dt),   n = grad_z h.
+
+    * SWITCH (y'' jumps at a profile break) and SLIP (stick ends: |y''| exceeds
+      mu_bar, which for a piecewise-constant profile happens only at a break, and
+      for a Fourier profile when |y''(t)| crosses 1 -- both times independent of
+      the state, as the mass is stuck at a fixed x): h = t - t_s, n = 0, S = I.
+    * REVERSAL (x' passes through 0 and the slip changes direction): h = x',
+      n = (0, 1), n^T f- = acc_before:  S = [[1, 0], [0, acc_after / acc_before]].
+      A velocity perturbation is scaled by the ratio of the slopes after and
+      before the crossing (the origin of lambda2 = c4 in case 4, eq. 33).
+    * STICK (x' reaches 0 and |y''| <= mu_bar): the motion enters the sliding mode
+      x' = 0 whose vector field is f+ = (0, 0) (acc_after = 0):
+      S = [[1, 0], [0, 0]].  A velocity perturbation only shifts the stick
+      time, by -dv / acc_before, during which x moves by O(dv^2): it is removed,
+      a position perturbation is kept.
+    * ZONE (x crosses x_mu or x_mu + w): h = x - x_b, n = (1, 0), n^T f- = v:
+      S = [[1, 0], [(acc_after - acc_before) / v, 1]].  mu_bar is continuous
+      (eq. 9), so x'' is too and S = I up to rounding; only the Jacobian of the
+      vector field jumps, which the fundamental matrices of the two arcs carry.
+    """
+    kind = EventKind(kind)
+    if kind in (EventKind.SWITCH, EventKind.SLIP):
+        return np.eye(2)
+    if kind in (EventKind.STICK, EventKind.REVERSAL):
+        if acc_before == 0.0:
+            raise ValueError(f"{kind.name} event with x'' = 0 before it: the velocity grazes zero and the "
+                             "monodromy matrix does not exist")
+        return np.array([[1.0, 0.0], [0.0, acc_after / acc_before]])
+    if v == 0.0:
+        raise ValueError("ZONE event at x' = 0: the orbit grazes the zone boundary and the monodromy "
+                         "matrix does not exist")
+    return np.array([[1.0, 0.0], [(acc_after - acc_before) / v, 1.0]])
+
+
+def arc_matrix(arc) -> np.ndarray:
+    """Fundamental matrix of one arc of the exact solver (:func:`arcs.fundamental_matrix`).
+
+    SMOOTH arcs (Fourier profile, uniform surface) have x'' = -y''(t) - sigma,
+    independent of the state, so their matrix is that of a quadratic arc,
+    [[1, s], [0, 1]].
+    """
+    kind = _arcs.QUADRATIC if arc.kind == _arcs.SMOOTH else arc.kind
+    return np.array(_arcs.fundamental_matrix(kind, arc.omega, arc.duration), dtype=float)
+
+
+def monodromy_from_record(arcs, events) -> tuple[np.ndarray, dict]:
+    """Product of arc and saltation matrices in time order (module docstring).
+
+    Arcs and events are the exact solver's records of consecutive periods.  At
+    equal times an event comes after the arc that ends there and before the arc
+    that starts there; events at one time keep their logged order.  A STICK or
+    REVERSAL at the time of a SWITCH (x' = 0 exactly at a break) makes the period
+    map non-smooth; the product is then the derivative for perturbations that
+    move that event earlier, and ``info["grazing_events"]`` counts them.
+    """
+    items = [((a.period, a.tau, 1, i), a) for i, a in enumerate(arcs)]
+    items += [((e.period, e.tau, 0, i), e) for i, e in enumerate(events)]
+    items.sort(key=lambda item: item[0])
+    switch_times = {(e.period, e.tau) for e in events if e.kind == EventKind.SWITCH}
+    grazing = sum(1 for e in events if e.kind in (EventKind.STICK, EventKind.REVERSAL)
+                  and (e.period, e.tau) in switch_times)
+    m = np.eye(2)
+    for (_, _, is_arc, _), item in items:
+        if is_arc:
+            m = arc_matrix(item) @ m
+        else:
+            m = saltation_matrix(item.kind, item.v, item.acc_before, item.acc_after) @ m
+    counts = {k.name.lower(): sum(1 for e in events if e.kind == k) for k in EventKind}
+    return m, {"arcs": len(arcs), "events": counts, "grazing_events": grazing}
+
+
+# --------------------------------------------------------------------------------------
+# The three methods
+# --------------------------------------------------------------------------------------
+
+def _analytic(motion, opts):
+    from .steady_state import monodromy_analytic
+
+    return np.asarray(monodromy_analytic(motion.profile), dtype=float), {}
+
+
+def _saltation(motion, opts):
+    solver = ExactSolver(motion.profile, motion.surface, motion.x0, motion.v0, motion.phase, record=True)
+    arcs, events = [], []
+    for _ in range(motion.periods):
+        step = solver.step_period()
+        arcs.extend(step.arcs)
+        events.extend(step.events)
+    return monodromy_from_record(arcs, events)
+
+
+def _period_map_exact(motion, x0, v0):
+    """(x - x0_motion, x') after ``motion.periods`` periods from each (x0, v0), exact solver."""
+    out = []
+    for x, v in zip(x0, v0):
+        solver = ExactSolver(motion.profile, motion.surface, float(x), float(v), motion.phase, record=False)
+        shift = 0.0
+        for _ in range(motion.periods):
+            shift += solver.step_period().advance
+        # Displacement relative to the unperturbed start, kept small so no large x enters.
+        out.append(((x - motion.x0) + shift, solver.v))
+    return np.array(out)
+
+
+def _period_map_moreau(motion, x0, v0, h):
+    from .solvers.moreau import solve_batch
+
+    res = solve_batch(motion.profile, motion.surface, np.asarray(x0), np.asarray(v0), motion.periods,
+                      h=h, phase=motion.phase)
+    return np.stack([res.x_end - motion.x0, res.v_end], axis=1)
+
+
+def moreau_step(dt: float, h) -> float:
+    """The Moreau step actually used for a requested ``h`` (dt / ceil(dt / h); None: dt / 1000)."""
+    from .solvers.moreau import steps_per_period
+
+    return steps_per_period(float(dt), h)[1]
+
+
+def _fd_points(x0, v0, eps):
+    """Central-difference points: x0 +- eps at v0, v0 +- eps at x0."""
+    return np.array([x0 + eps, x0 - eps, x0, x0]), np.array([v0, v0, v0 + eps, v0 - eps])
+
+
+def _fd_matrix(p, xs, vs, x0, v0):
+    """Difference quotients of the map values ``p`` (4, 2) at :func:`_fd_points`, divided
+    by the perturbations actually applied, (x0 + eps) - x0 etc., rather than by 2 eps, so
+    that the rounding of x0 + eps does not enter."""
+    dx, dv = (xs[0] - x0) - (xs[1] - x0), (vs[2] - v0) - (vs[3] - v0)
+    return np.column_stack([(p[0] - p[1]) / dx, (p[2] - p[3]) / dv])
+
+
+def _numeric(motion, opts):
+    x0, v0 = motion.x0, motion.v0
+    if opts["solver"] == "exact":
+        eps = EXACT_EPS if opts["eps"] is None else opts["eps"]
+        xs, vs = _fd_points(x0, v0, eps)
+        return _fd_matrix(_period_map_exact(motion, xs, vs), xs, vs, x0, v0), {"solver": "exact", "eps": eps}
+    h = moreau_step(motion.profile.dt, opts["h"])
+    eps = math.sqrt(h) if opts["eps"] is None else opts["eps"]
+    xs, vs = _fd_points(x0, v0, eps)
+    return (_fd_matrix(_period_map_moreau(motion, xs, vs, h), xs, vs, x0, v0),
+            {"solver": "moreau", "eps": eps, "h": h})
+
+
+def eigen(monodromy) -> tuple[np.ndarray, np.ndarray]:
+    """Eigenvalues sorted by decreasing modulus (ties: larger real part first) and unit
+    eigenvectors as columns; real arrays when the eigenvalues are real."""
+    w, vec = np.linalg.eig(np.asarray(monodromy, dtype=float))
+    order = np.lexsort((-w.real, -np.abs(w)))
+    w, vec = w[order], vec[:, order]
+    if np.all(w.imag == 0.0):
+        w, vec = w.real, vec.real
+    return w, vec
+
+
+def floquet(profile_or_scene, method: str = "analytic", **options) -> FloquetResult:
+    """Floquet multipliers and monodromy matrix of the steady state (module docstring).
+
+    ``profile_or_scene``: a profile (uniform surface, start at t = 0) or a Scene (its
+    surface, start state and phase).  Options (:data:`DEFAULT_OPTIONS`): saltation
+    and numeric ``max_periods``; numeric ``solver`` ("exact" | "moreau"), ``eps``,
+    ``h`` (Moreau only).
+    """
+    opts = _check_options(method, options)
+    profile, surface, _, _, phase = _system(profile_or_scene)
+    if method == "analytic" and not _closed_form_applies(profile, surface, phase):
+        raise ValueError("method='analytic' needs a ThreePhaseProfile on a uniform surface at phase 0 "
+                         "(Sect. 6.1); use method='saltation' or 'numeric'")
+    motion = periodic_motion(profile_or_scene, opts.get("max_periods", 10_000))
+    m, info = {"analytic": _analytic, "saltation": _saltation, "numeric": _numeric}[method](motion, opts)
+    if not np.all(np.isfinite(m)):
+        raise ValueError(f"method={method!r}: non-finite monodromy matrix {m.tolist()} "
+                         "(infeasible profile or a failed simulation)")
+    w, vec = eigen(m)
+    return FloquetResult(method, m, w, vec, motion, info)
+
+
+def multiplier_distance(a, b) -> float:
+    """max |a_i - b_i| of two multiplier vectors sorted as :func:`eigen` sorts them."""
+    return float(np.max(np.abs(np.asarray(a) - np.asarray(b))))
+
+
+# --------------------------------------------------------------------------------------
+# The stability stage: all methods for one scene, and over a (y2'', y3'') grid
+# --------------------------------------------------------------------------------------
+
+def _method_runs(analytic: bool):
+    """(label, method, options) of the methods compared for one system; the first is the reference."""
+    runs = [("analytic", "analytic", {})] if analytic else []
+    return runs + [("saltation", "saltation", {}), ("numeric_exact", "numeric", {"solver": "exact"}),
+                   ("numeric_moreau", "numeric", {"solver": "moreau"})]
+
+
+def stability_result(scene: Scene, moreau_steps=(100, 1000, 10000), moreau_eps=(1e-4, 1e-3, 1e-2)):
+    """Datasets and attributes of ``results/stability/<scene>.h5`` (README, "Results").
+
+    Every method of :func:`floquet` on the scene's steady state: ``methods`` (labels;
+    the first is the reference: analytic where it applies, else saltation),
+    ``monodromy`` (methods, 2, 2), ``multipliers`` (methods, 2; complex),
+    ``monodromy_error`` and ``multiplier_error`` (max abs difference from the
+    reference).  The Moreau estimate for every pair of ``moreau_steps`` (steps per
+    period N, h = dt / N) and ``moreau_eps``: ``moreau_monodromy`` (N, eps, 2, 2),
+    ``moreau_multipliers`` (N, eps, 2), ``moreau_multiplier_error`` (N, eps).
+    """
+    import yaml
+
+    profile, surface, _, _, phase = _system(scene)
+    runs = _method_runs(_closed_form_applies(profile, surface, phase))
+    results = [floquet(scene, method, **opts) for _, method, opts in runs]
+    ref, by = results[0], {label: r for (label, _, _), r in zip(runs, results)}
+    mono = np.array([r.monodromy for r in results])
+    mult = np.array([r.multipliers for r in results], dtype=complex)
+    steps = np.asarray(moreau_steps, dtype=int)
+    eps = np.asarray(moreau_eps, dtype=float)
+    scan = [[floquet(scene, "numeric", solver="moreau", h=profile.dt / n, eps=float(e)) for e in eps]
+            for n in steps]
+    scan_mult = np.array([[r.multipliers for r in row] for row in scan], dtype=complex)
+    motion = ref.motion
+    datasets = {
+        "methods": np.array([label for label, _, _ in runs]),
+        "monodromy": mono,
+        "multipliers": mult,
+        "monodromy_error": np.abs(mono - ref.monodromy).max(axis=(1, 2)),
+        "multiplier_error": np.abs(mult - ref.multipliers).max(axis=1),
+        "moreau_steps": steps,
+        "moreau_eps": eps,
+        "moreau_monodromy": np.array([[r.monodromy for r in row] for row in scan]),
+        "moreau_multipliers": scan_mult,
+        "moreau_multiplier_error": np.abs(scan_mult - ref.multipliers).max(axis=2),
+    }
+    attrs = dict(profile.params())
+    attrs.update(surface=surface.params() if isinstance(surface, StopZone) else {"kind": "uniform"},
+                 reference=runs[0][0], x0=motion.x0, v0=motion.v0, phase=motion.phase,
+                 orbit_periods=motion.periods, advance=motion.advance, orbit_source=motion.source,
+                 exact_eps=by["numeric_exact"].info["eps"], moreau_h=by["numeric_moreau"].info["h"],
+                 moreau_default_eps=by["numeric_moreau"].info["eps"],
+                 saltation_events=by["saltation"].info["events"],
+                 grazing_events=by["saltation"].info["grazing_events"], scene_name=scene.name,
+                 scene=yaml.safe_dump(scene.to_dict(), sort_keys=False))
+    if isinstance(profile, ThreePhaseProfile) and isinstance(surface, Uniform):
+        from .steady_state import steady_state
+
+        attrs["case"] = steady_state(profile).case
+    return datasets, attrs
+
+
+def _moreau_batch(profiles, v0s, steps: int):
+    """Numeric (Moreau) monodromies of many three-phase steady states (uniform surface,
+    start at t = 0) in one batched run, eps = sqrt(h) as in :func:`floquet`."""
+    from .solvers.moreau import solve_batch
+
+    h = np.array([p.dt / steps for p in profiles])
+    eps = np.sqrt(h)
+    xs = np.stack([eps, -eps, 0 * eps, 0 * eps], axis=1)                 # x0 = 0
+    vs = np.stack([v0s, v0s, v0s + eps, v0s - eps], axis=1)
+    res = solve_batch([p for p in profiles for _ in range(4)], Uniform(), xs.ravel(), vs.ravel(), 1,
+                      h=np.repeat(h, 4))
+    p = np.stack([res.x_end, res.v_end], axis=1).reshape(len(profiles), 4, 2)
+    dx = xs[:, 0] - xs[:, 1]
+    dv = (vs[:, 2] - v0s) - (vs[:, 3] - v0s)
+    return np.stack([(p[:, 0] - p[:, 1]) / dx[:, None], (p[:, 2] - p[:, 3]) / dv[:, None]], axis=2)
+
+
+def stability_grid(dt: float, dy: float, y2, y3, moreau_steps: int = 1000):
+    """Datasets and attributes of ``results/stability/grid_<name>.h5``: every method over the
+    (y2'', y3'') grid of three-phase profiles with the given dt, dy (uniform surface).
+
+    ``y2`` (n,), ``y3`` (m,), ``case`` (n, m), ``methods``, ``monodromy`` (methods, n, m, 2, 2),
+    ``multipliers`` (methods, n, m, 2; all real here: the monodromy is upper triangular),
+    ``monodromy_error``, ``multiplier_error`` (methods, n, m) against the analytic method;
+    NaN where the profile is infeasible (case 0).  Moreau: ``moreau_steps`` steps per
+    period and eps = sqrt(h).
+    """
+    from .steady_state import monodromy_grid, steady_state_grid
+
+    y2, y3 = np.asarray(y2, dtype=float), np.asarray(y3, dtype=float)
+    g2, g3 = np.meshgrid(y2, y3, indexing="ij")
+    ss = steady_state_grid(dt, dy, g2, g3)
+    labels = ["analytic", "saltation", "numeric_exact", "numeric_moreau"]
+    mono = np.full((len(labels),) + g2.shape + (2, 2), np.nan)
+    mono[0] = monodromy_grid(dt, dy, g2, g3)
+    feasible = np.argwhere(ss.case > 0)
+    profiles = [ThreePhaseProfile(dt, dy, g2[i, j], g3[i, j]) for i, j in feasible]
+    for (i, j), p in zip(feasible, profiles):
+        mono[1, i, j] = floquet(p, "saltation").monodromy
+        mono[2, i, j] = floquet(p, "numeric").monodromy
+    if profiles:
+        mono[3][tuple(feasible.T)] = _moreau_batch(profiles, ss.v0[tuple(feasible.T)], int(moreau_steps))
+    mult = np.full(mono.shape[:-1], np.nan)
+    for k, label in enumerate(labels):
+        for i, j in feasible:
+            w, _ = eigen(mono[k, i, j])
+            if np.iscomplexobj(w):
+                raise ValueError(f"{label} monodromy at y2 = {y2[i]!r}, y3 = {y3[j]!r} has complex "
+                                 f"multipliers {w.tolist()}: expected an upper triangular matrix")
+            mult[k, i, j] = w
+    datasets = {
+        "y2": y2, "y3": y3, "case": ss.case, "methods": np.array(labels), "monodromy": mono,
+        "multipliers": mult,
+        "monodromy_error": np.abs(mono - mono[0]).max(axis=(-2, -1)),
+        "multiplier_error": np.abs(mult - mult[0]).max(axis=-1),
+    }
+    with np.errstate(invalid="ignore"):
+        worst = {label: float(np.nanmax(datasets["monodromy_error"][k])) if profiles else float("nan")
+                 for k, label in enumerate(labels)}
+    attrs = {"dt": float(dt), "dy": float(dy), "moreau_steps": int(moreau_steps),
+             "exact_eps": EXACT_EPS, "max_monodromy_error": worst}
+    return datasets, attrs

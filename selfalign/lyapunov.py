@@ -1,0 +1,259 @@
+"""Convergence of the relative velocity: the Lyapunov trace of Sect. 6.2 (eqs. 34-37, Fig. 13).
+
+Two trajectories of v' in -Sign(v) - y''(t) (eq. 34, uniform surface) from the
+initial velocities v10 and v20 at the same time, and the Lyapunov function
+V = (v1 - v2)^2 / 2 (eq. 35).  Along solutions (eq. 36)
+
+    V' = (v1 - v2)(v1' - v2') = -(v1 - v2)(s1 - s2),
+
+where s_i in Sign(v_i) is the element of the set-valued sign that the motion
+actually selects, i.e. the friction force divided by mu_bar: s = sign(v) in
+slip and s = -y''(t) in stick (x'' = 0 there, eq. 6), which lies in [-1, 1]
+exactly because stick needs |y''| <= 1.  Labels follow this selection (the
+paper's v-hat_i): an interval is "=" where s1 = s2 and "!=" where s1 != s2.
+Hence, exactly,
+
+* "=": V' = 0 (both slip in the same direction, or both stick, which means
+  v1 = v2 = 0; a stuck mass under the tie y'' = -+1 selects s = +-1 and equals
+  a mass slipping in the direction +-1 -- then too x1'' = x2''),
+* "!=": V' < 0 whenever V > 0, because Sign is monotone: v1 > v2 forces
+  s1 >= s2, so s1 != s2 means s1 > s2 and (v1 - v2)(s1 - s2) > 0.
+
+v = 0 is therefore labelled by what the mass does there, not by the value 0:
+a mass sticking while the other slips is always "!=" except at that tie.
+
+Everything is computed from the exact solver's arcs: the breakpoints are the
+union of both trajectories' event times and period boundaries; between two
+breakpoints each trajectory stays on one closed-form arc, so the labels and
+x_i'' are fixed there and V is exact at every event.
+"""
+
+from __future__ import annotations
+
+import numbers
+from dataclasses import dataclass
+
+import numpy as np
+
+from .friction import Uniform
+from .profiles import Profile, ThreePhaseProfile
+from .scene import Scene
+from .solvers import arcs as _arcs
+from .solvers.exact import ExactSolver
+
+
+@dataclass(frozen=True)
+class LyapunovTrace:
+    """Two velocity trajectories and V of eq. (35).
+
+    Samples (``t``, ``v1``, ``v2``, ``V``, ``dV``): a uniform grid of
+    ``samples_per_period`` per period plus every breakpoint; ``dV`` is the
+    right derivative V'(t+) (the left one at the last sample).
+    Sub-intervals between consecutive breakpoints (``sub_start``, ``sub_end``,
+    ``sub_equal``, the selected Sign elements ``s1``, ``s2``, and ``dV_start``,
+    ``dV_end``, the one-sided derivatives V'(start+), V'(end-)); ``interval_*``
+    merge neighbouring sub-intervals with the same label.  ``period_V`` is V at
+    the period boundaries; ``converged_time`` the first time from which
+    v1 = v2 exactly for good (NaN if not within the horizon).
+    """
+
+    t: np.ndarray
+    v1: np.ndarray
+    v2: np.ndarray
+    V: np.ndarray
+    dV: np.ndarray
+    sub_start: np.ndarray
+    sub_end: np.ndarray
+    sub_equal: np.ndarray
+    s1: np.ndarray
+    s2: np.ndarray
+    dV_start: np.ndarray
+    dV_end: np.ndarray
+    interval_start: np.ndarray
+    interval_end: np.ndarray
+    interval_equal: np.ndarray
+    period_V: np.ndarray
+    converged_time: float
+
+
+class _Arcs:
+    """One trajectory's arcs as arrays, evaluated at arbitrary times inside the run."""
+
+    def __init__(self, profile, arc_list):
+        dt = float(profile.dt)
+        self.profile = profile
+        # Zero-length arcs hold no time and start where their neighbour does.
+        cols = list(zip(*[arc for arc in arc_list if arc.duration > 0.0]))
+        self.kind = np.array(cols[0], dtype=int)
+        self.start = np.array(cols[1], dtype=float) * dt + np.array(cols[2], dtype=float)
+        self.tau = np.array(cols[2], dtype=float)
+        self.duration = np.array(cols[3], dtype=float)
+        self.v0 = np.array(cols[5], dtype=float)
+        self.acc = np.array(cols[6], dtype=float)
+        self.mode = np.array(cols[9], dtype=int)
+
+    def locate(self, t, right=True):
+        """Index of the arc holding each time: the one starting there (``right``) or ending there."""
+        side = "right" if right else "left"
+        return np.clip(np.searchsorted(self.start, t, side=side) - 1, 0, self.start.size - 1)
+
+    def state(self, t, right=True):
+        """(v, x'', mode, y'') at times t on the arcs :meth:`locate` picks (uniform surface)."""
+        i = self.locate(t, right)
+        s = np.clip(t - self.start[i], 0.0, self.duration[i])
+        kind, v0, acc, mode = self.kind[i], self.v0[i], self.acc[i], self.mode[i]
+        sigma = mode.astype(float)
+        tt = self.tau[i] + s
+        ydd = np.asarray(self.profile.acceleration(tt), dtype=float)
+        smooth = kind == _arcs.SMOOTH
+        # Piecewise-constant slip: v = v0 + acc s (eqs. 15-20); Fourier slip: closed form
+        # v = v0 - sigma s - (y'(t) - y'(t0)); stick: v = 0, x'' = 0.
+        v = np.where(kind == _arcs.STICK, 0.0, v0 + acc * s)
+        if smooth.any():
+            yd = self.profile.velocity
+            v = np.where(smooth, v0 - sigma * s - (np.asarray(yd(tt)) - np.asarray(yd(self.tau[i]))), v)
+        xdd = np.where(kind == _arcs.STICK, 0.0, np.where(smooth, -ydd - sigma, acc))
+        return v, xdd, mode, ydd
+
+
+def _selected_sign(mode, ydd):
+    """s in Sign(v) selected by the motion: the slip direction, or -y'' in stick (mu_bar = 1)."""
+    return np.where(mode != 0, mode.astype(float), -ydd)
+
+
+def _run(profile, v0, phase, periods):
+    solver = ExactSolver(profile, Uniform(), 0.0, v0, phase, record=True)
+    arc_list = []
+    for _ in range(periods):
+        arc_list.extend(solver.step_period().arcs)
+    return _Arcs(profile, arc_list)
+
+
+def _check(profile_or_scene, v10, v20, periods, phase, samples_per_period):
+    if isinstance(profile_or_scene, Scene):
+        if not isinstance(profile_or_scene.surface, Uniform):
+            raise ValueError("the convergence analysis of Sect. 6.2 needs a uniform surface (mu_bar = 1); "
+                             f"got {profile_or_scene.surface!r}")
+        profile = profile_or_scene.profile
+    elif isinstance(profile_or_scene, Profile):
+        profile = profile_or_scene
+    else:
+        raise ValueError(f"lyapunov_trace needs a selfalign profile or Scene, got {type(profile_or_scene).__name__}")
+    for name, value in (("v10", v10), ("v20", v20), ("phase", phase)):
+        if isinstance(value, bool) or not isinstance(value, numbers.Real) or not np.isfinite(value):
+            raise ValueError(f"{name} must be a finite number, got {value!r}")
+    if not 0.0 <= phase < 1.0:
+        raise ValueError(f"phase must lie in [0, 1) (fraction of the period), got {phase!r}")
+    for name, value, low in (("periods", periods, 1), ("samples_per_period", samples_per_period, 2)):
+        if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < low:
+            raise ValueError(f"{name} must be an integer >= {low}, got {value!r}")
+    return profile
+
+
+def lyapunov_trace(profile_or_scene, v10: float, v20: float, periods: int, phase: float = 0.0,
+                   samples_per_period: int = 200) -> LyapunovTrace:
+    """V = (v1 - v2)^2 / 2 of two trajectories on a uniform surface (module docstring).
+
+    Both start at time ``phase * dt`` (with a Scene, pass its ``phase``; only its
+    profile is used here, see :func:`scene_trace`).
+    """
+    profile = _check(profile_or_scene, v10, v20, periods, phase, samples_per_period)
+    dt = float(profile.dt)
+    a, b = _run(profile, float(v10), phase, periods), _run(profile, float(v20), phase, periods)
+    t0 = phase * dt
+    boundaries = t0 + dt * np.arange(periods + 1)
+    breaks = np.unique(np.concatenate([a.start, b.start, boundaries]))
+    breaks = breaks[breaks <= boundaries[-1]]
+    start, end = breaks[:-1], breaks[1:]
+    mid = 0.5 * (start + end)
+
+    # Labels from the arcs in force inside each sub-interval.
+    _, _, m1, ydd = a.state(mid)
+    _, _, m2, _ = b.state(mid)
+    s1, s2 = _selected_sign(m1, ydd), _selected_sign(m2, ydd)
+    equal = s1 == s2
+
+    def derivative(t, right):
+        """V' = (v1 - v2)(x1'' - x2'') (eq. 36) on the arcs starting (right) or ending at t."""
+        va, xa, *_ = a.state(t, right)
+        vb, xb, *_ = b.state(t, right)
+        return (va - vb) * (xa - xb)
+
+    dv_start, dv_end = derivative(start, True), derivative(end, False)
+
+    grid = t0 + dt * np.arange(periods * samples_per_period + 1) / samples_per_period
+    t = np.unique(np.concatenate([breaks, grid]))
+    v1, *_ = a.state(t)
+    v2, *_ = b.state(t)
+    dV = derivative(t, True)
+    dV[-1:] = derivative(t[-1:], False)
+    V = 0.5 * (v1 - v2) ** 2
+
+    # Merge neighbouring sub-intervals with equal labels.
+    change = np.flatnonzero(np.diff(equal.astype(int))) + 1
+    first = np.concatenate([[0], change])
+    last = np.concatenate([change - 1, [equal.size - 1]])
+
+    vb1, *_ = a.state(boundaries)
+    vb2, *_ = b.state(boundaries)
+    period_V = 0.5 * (vb1 - vb2) ** 2
+    nonzero = np.flatnonzero(V != 0.0)
+    if nonzero.size == 0:
+        converged = float(t[0])
+    elif nonzero[-1] < t.size - 1:
+        converged = float(t[nonzero[-1] + 1])
+    else:
+        converged = float("nan")
+    return LyapunovTrace(t=t, v1=v1, v2=v2, V=V, dV=dV, sub_start=start, sub_end=end, sub_equal=equal,
+                         s1=s1, s2=s2, dV_start=dv_start, dV_end=dv_end, interval_start=start[first],
+                         interval_end=end[last], interval_equal=equal[first], period_V=period_V,
+                         converged_time=converged)
+
+
+def scene_trace(scene: Scene, v20: float) -> LyapunovTrace:
+    """The trace of a scene: trajectory 1 from its start.v0, trajectory 2 from ``v20``, both
+    at its phase, over its ``periods`` with its ``samples_per_period``."""
+    if scene.until != "periods":
+        raise ValueError(f"scene {scene.name!r}: the convergence trace needs horizon.periods, not until: rest")
+    return lyapunov_trace(scene, scene.v0, v20, int(scene.periods), scene.phase,
+                          int(scene.record.samples_per_period))
+
+
+def convergence_result(scene: Scene, v20: float) -> tuple[dict, dict]:
+    """Datasets and attributes of ``results/convergence/<scene>.h5`` (README, "Results").
+
+    Datasets: the samples ``t``, ``v1``, ``v2``, ``V``, ``dV`` of :class:`LyapunovTrace`,
+    the labelled intervals ``interval_start``, ``interval_end``, ``interval_equal``, and
+    ``period_t``, ``period_V`` (V at the period boundaries).  Attributes: the profile's
+    parameters, ``v10``, ``v20``, ``periods``, ``samples_per_period``,
+    ``converged_time``, for a three-phase profile ``case`` and the analytic ``lambda2``
+    (eq. 33), and the scene.
+    """
+    import yaml
+
+    trace = scene_trace(scene, v20)
+    profile = scene.profile
+    periods = int(scene.periods)
+    datasets = {
+        "t": trace.t, "v1": trace.v1, "v2": trace.v2, "V": trace.V, "dV": trace.dV,
+        "interval_start": trace.interval_start, "interval_end": trace.interval_end,
+        "interval_equal": trace.interval_equal,
+        "period_t": profile.dt * (scene.phase + np.arange(periods + 1)), "period_V": trace.period_V,
+    }
+    attrs = dict(profile.params())
+    if isinstance(profile, ThreePhaseProfile):
+        from .steady_state import floquet_multipliers_analytic, steady_state
+
+        attrs.update(case=steady_state(profile).case, lambda2=float(floquet_multipliers_analytic(profile)[1]))
+    attrs.update(v10=scene.v0, v20=float(v20), periods=periods,
+                 samples_per_period=int(scene.record.samples_per_period),
+                 converged_time=trace.converged_time, scene_name=scene.name,
+                 scene=yaml.safe_dump(scene.to_dict(), sort_keys=False))
+    return datasets, attrs
+
+
+def recording_series(result: dict) -> tuple[np.ndarray, dict]:
+    """Times and series of the rerun recording of a convergence result: the two
+    velocities share one view, V has its own."""
+    d = result["datasets"]
+    return d["t"], {"velocity/v1": d["v1"], "velocity/v2": d["v2"], "lyapunov/V": d["V"]}
