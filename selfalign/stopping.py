@@ -1,0 +1,532 @@
+"""Stopping in the high-friction zone: positioning accuracy and accumulation (Sect. 7).
+
+Entries (Sect. 7.1).  On the uniform surface the steady state of a three-phase
+profile is x_s(t) with x_s(0) = 0 and x_s'(0) = v0 (:mod:`selfalign.steady_state`),
+and x_s(t + dt) = x_s(t) + vbar dt.  Every steady-state approach to the zone is
+x(t) = x_s(t) - s for some offset s; offsets differing by vbar dt give the same
+motion one period later, so the entries form a one-parameter family
+s in [0, vbar dt) modulo translation.  We sample
+
+    s_j = vbar dt (j + offset) / n_entries,   j = 0 .. n_entries - 1,
+
+start every entry at t = 0 (phase 0, the start of the dwell, t0 of Fig. 7) at
+x0s = -s_j with x' = v0, and put the zone at
+
+    x_mu = Delta_x = max_{0 <= t <= dt} (x_s(t) - x_s(0)),
+
+the maximum displacement within one steady period.  Then x(t) <= x0s +
+Delta_x <= x_mu during the whole first period, so no entry touches the zone
+before its first period ends (only s = 0 can touch x_mu, at rest or while
+turning, which is harmless since mu_bar(x_mu) = 1), and x0s in (-vbar dt, 0]
+is the paper's range -vbar dt <= x0s <= 0.  Results are periodic in s with
+period vbar dt and independent of where the sample starts (``offset``) up to
+the sampling resolution.  The entry phase of an entry is the phase of its
+first arrival at x_mu (``entry_tau``).
+
+Positioning (eqs. 39-41).  overshoot = x_end - x_mu of the entries that stop
+(REST or ACCUMULATION, whose end is the limit x_stick_min);
+Delta_x_d = (max - min) / 2 over them, x_d = x_mu + overshoot_min + Delta_x_d.
+Entries that never stop (or stay undecided) have no end position: they are
+counted separately and left out of the range (NaN when no entry stops).
+
+Accumulation speed (Sect. 7.3).  The level x_mu + p (x_stick_min - x_mu) is
+"reached" at the first time x >= level.  Times are reported in periods, from
+the start of the run, from the entry (first arrival at x_mu) and from the
+first stick in the zone, and as the number of zone sticks before the level
+(map iterations of eq. 59 after the first stick x_1).
+"""
+
+from __future__ import annotations
+
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass
+
+import numpy as np
+
+from .classification import check_parameters
+from .errors import check_finite, check_positive
+from .friction import StopZone
+from .profiles import ThreePhaseProfile
+from .solvers.batch import Outcome, solve_batch, three_phase_pieces
+from .steady_state import steady_state_grid
+from .stick_map import stick_map, stick_map_validity
+
+#: Members per call of the batched solver (bounds the memory of a grid run).
+CHUNK_MEMBERS = 262_144
+#: Default period budget: runs without an outcome by then are reported undecided.
+MAX_PERIODS = 1000
+
+
+def _check_zone(w, c_mu, n_entries, offset, max_periods):
+    check_positive("w", w)
+    check_finite("c_mu", c_mu)
+    if c_mu <= 1.0:
+        raise ValueError(f"c_mu must be > 1 (a high-friction zone), got {c_mu!r}")
+    if int(n_entries) != n_entries or n_entries < 1:
+        raise ValueError(f"n_entries must be an integer >= 1, got {n_entries!r}")
+    check_finite("offset", offset)
+    if not 0.0 <= offset < 1.0:
+        raise ValueError(f"offset must lie in [0, 1) (fraction of the sample spacing), got {offset!r}")
+    if int(max_periods) != max_periods or max_periods < 1:
+        raise ValueError(f"max_periods must be an integer >= 1, got {max_periods!r}")
+
+
+def _check_levels(levels):
+    levels = np.atleast_1d(np.asarray(levels, dtype=float))
+    if levels.ndim != 1 or np.any(~np.isfinite(levels)) or np.any((levels <= 0) | (levels >= 1)):
+        raise ValueError(f"levels p must be numbers in (0, 1), got {levels.tolist()!r}")
+    return levels
+
+
+def _run_chunk(args):
+    """Simulate the entries of settings (flat arrays); per-entry arrays shaped (M, N)."""
+    dt, dy, y2, y3, v0, vbar, w, c_mu, n_entries, offset, max_periods, tol, levels = args
+    m = dt.size
+    breaks, accels = three_phase_pieces(dt, dy, y2, y3)
+    # Delta_x: the largest x over one steady period from x_s(0) = 0 (local maxima are v = 0 events).
+    dx = solve_batch(breaks, accels, 0.0, v0, 0.0, until="periods", periods=1).x_max
+    frac = (np.arange(n_entries) + offset) / n_entries
+    s = (vbar * dt)[:, None] * frac[None, :]
+    amax = np.maximum(y2, y3)
+    xs_rel = np.where(amax > c_mu, np.inf, w * (amax - 1.0) / (c_mu - 1.0))  # eq. (41)
+    lev = dx[:, None] + levels[None, :] * xs_rel[:, None]
+    rep = lambda a: np.repeat(a, n_entries, axis=0)  # noqa: E731
+    res = solve_batch(rep(breaks), rep(accels), -s.ravel(), rep(v0), 0.0, x_mu=rep(dx), w=w, c_mu=c_mu,
+                      levels=rep(lev), max_periods=max_periods, accumulation_tol=tol)
+    per = lambda a: a.reshape((m, n_entries) + a.shape[1:])  # noqa: E731
+    dtr = dt[:, None]
+    t_cross = per(res.cross_period + res.cross_tau / np.repeat(dt, n_entries)[:, None])
+    t_cross = np.where(per(res.cross_period) >= 0, t_cross, np.nan)
+    t_first = per(res.first_stick_period + res.first_stick_tau / np.repeat(dt, n_entries))
+    t_first = np.where(per(res.first_stick_period) >= 0, t_first, np.nan)
+    return {
+        "dx_period": dx, "x_stick_min_rel": xs_rel, "s": s,
+        "status": per(res.status), "reason": per(res.reason), "overshoot": per(res.x_end) - dx[:, None],
+        "periods": per(res.period_end) + per(res.tau_end) / dtr,
+        "zone_sticks": per(res.zone_sticks), "contraction": per(res.contraction), "cycle": per(res.cycle),
+        "entry_time": t_cross[:, :, 0], "entry_tau": per(res.cross_tau[:, 0]), "entry_v": per(res.cross_v[:, 0]),
+        "first_stick_time": t_first, "first_stick_x": per(res.first_stick_x) - dx[:, None],
+        "level_time": t_cross[:, :, 2:], "level_sticks": per(res.cross_sticks[:, 2:]),
+        "events": per(res.events),
+    }
+
+
+def _simulate_settings(dt, dy, y2, y3, w, c_mu, n_entries, offset, max_periods, tol, levels, processes):
+    """Steady state and entry runs for flat setting arrays; entry results for the moving ones."""
+    ss = steady_state_grid(dt, dy, y2, y3)
+    moving = (ss.case > 0) & (ss.vbar > 0)
+    idx = np.flatnonzero(moving)
+    per_chunk = max(1, CHUNK_MEMBERS // n_entries)
+    parts = [idx[i:i + per_chunk] for i in range(0, idx.size, per_chunk)]
+    if processes > 1 and len(parts) < processes and idx.size >= processes:
+        parts = np.array_split(idx, processes)
+    jobs = [(dt[p], dy[p], y2[p], y3[p], ss.v0[p], ss.vbar[p], w, c_mu, n_entries, offset, max_periods, tol,
+             levels) for p in parts]
+    if processes > 1 and len(jobs) > 1:
+        with ProcessPoolExecutor(max_workers=processes) as pool:
+            outs = list(pool.map(_run_chunk, jobs))
+    else:
+        outs = [_run_chunk(job) for job in jobs]
+    if outs:
+        runs = {key: np.concatenate([o[key] for o in outs]) for key in outs[0]}
+    else:
+        runs = _run_chunk((dt[:0], dy[:0], y2[:0], y3[:0], ss.v0[:0], ss.vbar[:0], w, c_mu, n_entries,
+                           offset, max_periods, tol, levels))
+    return ss, idx, runs
+
+
+@dataclass(frozen=True)
+class Positioning:
+    """Positioning accuracy of one three-phase profile (Sect. 7.1-7.2).
+
+    Scalars: ``vbar``, ``v0``, ``case`` of the steady state; ``dx_period`` =
+    Delta_x = ``x_mu`` (module docstring); ``x_stick_min`` (eq. 41, absolute);
+    ``overshoot_min``/``overshoot_max`` over the entries that stop; ``dx_d``
+    (eq. 39), ``x_d``; ``frac_accumulate``, ``frac_stop`` (at rest for good
+    without accumulation), ``frac_never_stop`` (periodic or walking),
+    ``frac_undecided`` (no outcome within ``max_periods``: bounded non-periodic
+    motion); ``accumulation``: "all", "some" or "none" of the entries.
+    Per entry (arrays of n_entries): ``s`` (offset), ``x0``, ``status``
+    (:class:`selfalign.solvers.batch.Outcome` codes), ``reason``, ``x_end`` (the end
+    position, or the state where a never-stop/undecided run was stopped),
+    ``overshoot`` (NaN unless it stops), ``periods`` (end time in periods),
+    ``zone_sticks``, ``first_stick_x`` (first stick at x >= x_mu), ``contraction``,
+    ``entry_time`` (periods), ``entry_tau`` (phase of the first arrival at x_mu), ``entry_v``.
+    """
+
+    profile: ThreePhaseProfile
+    w: float
+    c_mu: float
+    case: int
+    vbar: float
+    v0: float
+    dx_period: float
+    x_mu: float
+    x_stick_min: float
+    overshoot_min: float
+    overshoot_max: float
+    dx_d: float
+    x_d: float
+    frac_accumulate: float
+    frac_stop: float
+    frac_never_stop: float
+    frac_undecided: float
+    accumulation: str
+    s: np.ndarray
+    x0: np.ndarray
+    status: np.ndarray
+    reason: np.ndarray
+    x_end: np.ndarray
+    overshoot: np.ndarray
+    periods: np.ndarray
+    zone_sticks: np.ndarray
+    first_stick_x: np.ndarray
+    contraction: np.ndarray
+    entry_time: np.ndarray
+    entry_tau: np.ndarray
+    entry_v: np.ndarray
+
+    @property
+    def zone(self) -> StopZone:
+        return StopZone(x_mu=self.x_mu, w=self.w, c_mu=self.c_mu)
+
+
+def _summary(status, overshoot):
+    """Outcome fractions, overshoot range and Delta_x_d (eq. 39) over the last axis (the entries)."""
+    n = status.shape[-1]
+    acc = np.count_nonzero(status == Outcome.ACCUMULATION, axis=-1) / n
+    rest = np.count_nonzero(status == Outcome.REST, axis=-1) / n
+    never = np.count_nonzero(status == Outcome.NEVER_STOPS, axis=-1) / n
+    stops = (status == Outcome.ACCUMULATION) | (status == Outcome.REST)
+    with np.errstate(invalid="ignore"):
+        lo = np.where(stops.any(axis=-1), np.where(stops, overshoot, np.inf).min(axis=-1), np.nan)
+        hi = np.where(stops.any(axis=-1), np.where(stops, overshoot, -np.inf).max(axis=-1), np.nan)
+    return {"frac_accumulate": acc, "frac_stop": rest, "frac_never_stop": never,
+            "frac_undecided": 1.0 - acc - rest - never, "overshoot_min": lo, "overshoot_max": hi,
+            "dx_d": 0.5 * (hi - lo)}  # eq. (39)
+
+
+def positioning(profile: ThreePhaseProfile, *, w: float, c_mu: float, n_entries: int = 64, offset: float = 0.5,
+                max_periods: int = MAX_PERIODS, accumulation_tol: float = 1e-12) -> Positioning:
+    """Overshoot range, positioning error and outcome of every steady-state entry (Sect. 7.1).
+
+    ValueError if the profile's steady state does not move forward (vbar <= 0):
+    then the mass never reaches the zone.
+    """
+    return _positioning(profile, w, c_mu, n_entries, offset, max_periods, accumulation_tol, np.empty(0))[1]
+
+
+def _positioning(profile, w, c_mu, n_entries, offset, max_periods, accumulation_tol, levels):
+    """(per-entry runs of the one setting, Positioning) with the level crossings of ``levels``."""
+    if not isinstance(profile, ThreePhaseProfile):
+        raise ValueError(f"positioning needs a ThreePhaseProfile, got {type(profile).__name__}")
+    _check_zone(w, c_mu, n_entries, offset, max_periods)
+    arrays = [np.array([v]) for v in (profile.dt, profile.dy, profile.y2, profile.y3)]
+    ss, idx, runs = _simulate_settings(*arrays, float(w), float(c_mu), int(n_entries), float(offset),
+                                       int(max_periods), float(accumulation_tol), levels, 1)
+    if idx.size == 0:
+        raise ValueError(f"the steady state of {profile!r} does not move forward (vbar = {float(ss.vbar[0])!r}, "
+                         f"case {int(ss.case[0])}): the mass never reaches the zone")
+    r = {key: val[0] for key, val in runs.items()}
+    summ = {key: float(val[0]) for key, val in _summary(runs["status"], runs["overshoot"]).items()}
+    x_mu = float(r["dx_period"])
+    stops = (r["status"] == Outcome.ACCUMULATION) | (r["status"] == Outcome.REST)
+    frac = summ["frac_accumulate"]
+    return r, Positioning(
+        profile=profile, w=float(w), c_mu=float(c_mu), case=int(ss.case[0]), vbar=float(ss.vbar[0]),
+        v0=float(ss.v0[0]), dx_period=x_mu, x_mu=x_mu, x_stick_min=x_mu + float(r["x_stick_min_rel"]),
+        x_d=x_mu + summ["overshoot_min"] + summ["dx_d"],
+        accumulation="all" if frac == 1 else "some" if frac else "none",
+        s=r["s"], x0=-r["s"], status=r["status"], reason=r["reason"], x_end=x_mu + r["overshoot"],
+        overshoot=np.where(stops, r["overshoot"], np.nan), periods=r["periods"], zone_sticks=r["zone_sticks"],
+        first_stick_x=x_mu + r["first_stick_x"],
+        contraction=r["contraction"], entry_time=r["entry_time"], entry_tau=r["entry_tau"], entry_v=r["entry_v"],
+        **{key: summ[key] for key in ("overshoot_min", "overshoot_max", "dx_d", "frac_accumulate", "frac_stop",
+                                      "frac_never_stop", "frac_undecided")},
+    )
+
+
+@dataclass(frozen=True)
+class PositioningGrid:
+    """Positioning over a grid of three-phase settings (Fig. 17); arrays shaped like the inputs.
+
+    Steady state: ``case``, ``vbar``, ``f``.  Where the mass moves forward
+    (``moving``: case > 0 and vbar > 0), relative to x_mu = Delta_x
+    (``dx_period``): ``x_stick_min`` (eq. 41, minus x_mu), ``overshoot_min``,
+    ``overshoot_max``, ``dx_d`` (eq. 39), ``x_d`` (minus x_mu), the outcome
+    fractions, ``contraction`` (median over accumulating entries) and, for each
+    level p of ``levels``, the worst case over accumulating entries of the
+    time to reach x_mu + p (x_stick_min - x_mu) in periods from the start
+    (``level_from_start``), from the entry (``level_from_entry``), from the
+    first zone stick (``level_from_first_stick``) and the number of zone
+    sticks before it (``level_sticks``), shape (..., L).  NaN elsewhere.
+    ``events``: total solver events.
+    """
+
+    case: np.ndarray
+    vbar: np.ndarray
+    f: np.ndarray
+    moving: np.ndarray
+    dx_period: np.ndarray
+    x_stick_min: np.ndarray
+    overshoot_min: np.ndarray
+    overshoot_max: np.ndarray
+    dx_d: np.ndarray
+    x_d: np.ndarray
+    frac_accumulate: np.ndarray
+    frac_stop: np.ndarray
+    frac_never_stop: np.ndarray
+    frac_undecided: np.ndarray
+    contraction: np.ndarray
+    levels: np.ndarray
+    level_from_start: np.ndarray
+    level_from_entry: np.ndarray
+    level_from_first_stick: np.ndarray
+    level_sticks: np.ndarray
+    n_entries: int
+    events: int
+
+
+def positioning_grid(dt, dy, y2, y3, *, w: float, c_mu: float, n_entries: int = 64, offset: float = 0.5,
+                     max_periods: int = MAX_PERIODS, accumulation_tol: float = 1e-12, levels=(),
+                     processes: int = 1) -> PositioningGrid:
+    """:func:`positioning` for broadcast arrays of (dt, dy, y2, y3) with the batched solver.
+
+    ``levels``: fractions p in (0, 1) for the accumulation speed; ``processes``
+    > 1 splits the settings over that many worker processes.
+    """
+    _check_zone(w, c_mu, n_entries, offset, max_periods)
+    levels = _check_levels(levels) if np.size(levels) else np.empty(0)
+    if int(processes) != processes or processes < 1:
+        raise ValueError(f"processes must be an integer >= 1, got {processes!r}")
+    arrays = check_parameters(dt, dy, y2, y3)
+    shape = arrays[0].shape
+    flat = [a.ravel() for a in arrays]
+    ss, idx, runs = _simulate_settings(*flat, float(w), float(c_mu), int(n_entries), float(offset),
+                                       int(max_periods), float(accumulation_tol), levels, int(processes))
+    size, nl = flat[0].size, levels.size
+
+    def scatter(values, extra=()):
+        out = np.full((size,) + extra, np.nan)
+        out[idx] = values
+        return out.reshape(shape + extra)
+
+    summ = _summary(runs["status"], runs["overshoot"])
+    acc = runs["status"] == Outcome.ACCUMULATION
+    any_acc = acc.any(axis=1)
+    # Median over the accumulating entries (a sorted masked row: NaNs sort last).
+    k = np.count_nonzero(acc, axis=1)
+    ordered = np.sort(np.where(acc, runs["contraction"], np.nan), axis=1)
+    rows = np.arange(k.size)
+    lo_mid, hi_mid = np.maximum((k - 1) // 2, 0), np.maximum(k // 2, 0)
+    contraction = np.where(any_acc, 0.5 * (ordered[rows, lo_mid] + ordered[rows, hi_mid]), np.nan)
+
+    def worst(values):
+        v = np.where(acc[:, :, None], values, -np.inf).max(axis=1)
+        return np.where(any_acc[:, None], v, np.nan)
+
+    lt = runs["level_time"]
+    return PositioningGrid(
+        case=ss.case.reshape(shape), vbar=ss.vbar.reshape(shape), f=ss.f.reshape(shape),
+        moving=np.isin(np.arange(size), idx).reshape(shape), dx_period=scatter(runs["dx_period"]),
+        x_stick_min=scatter(runs["x_stick_min_rel"]), x_d=scatter(summ["overshoot_min"] + summ["dx_d"]),
+        contraction=scatter(contraction), levels=levels,
+        level_from_start=scatter(worst(lt), (nl,)),
+        level_from_entry=scatter(worst(lt - runs["entry_time"][:, :, None]), (nl,)),
+        level_from_first_stick=scatter(worst(lt - runs["first_stick_time"][:, :, None]), (nl,)),
+        level_sticks=scatter(worst(runs["level_sticks"].astype(float)), (nl,)),
+        n_entries=int(n_entries), events=int(runs["events"].sum()),
+        **{key: scatter(summ[key]) for key in ("overshoot_min", "overshoot_max", "dx_d", "frac_accumulate",
+                                               "frac_stop", "frac_never_stop", "frac_undecided")},
+    )
+
+
+@dataclass(frozen=True)
+class AccumulationSpeed:
+    """How fast accumulating entries approach x_stick_min (Sect. 7.3, the p-claim).
+
+    ``p`` (L,): the levels; per entry (n_entries, L), NaN for entries that do
+    not accumulate: ``from_start`` (periods from t = 0, the run start with
+    x0s in (-vbar dt, 0] and x_mu = Delta_x), ``from_entry`` (periods from the
+    first arrival at x_mu), ``from_first_stick`` (periods from the first stick
+    in the zone, x_1), ``sticks`` (zone sticks before the level: iterations of
+    the map after x_1).  ``worst_*`` (L,): their maxima over the accumulating
+    entries.  ``map_iterations`` (L,): iterations of eq. (59) from x_0 = x_mu
+    until x_k >= level (NaN if eq. 59 is not valid along the way);
+    ``positioning``: the underlying :class:`Positioning`.
+    """
+
+    p: np.ndarray
+    from_start: np.ndarray
+    from_entry: np.ndarray
+    from_first_stick: np.ndarray
+    sticks: np.ndarray
+    map_iterations: np.ndarray
+    positioning: Positioning
+
+    def _worst(self, values):
+        acc = self.positioning.status == Outcome.ACCUMULATION
+        return np.where(acc.any(), np.where(acc[:, None], values, -np.inf).max(axis=0), np.nan)
+
+    @property
+    def worst_from_start(self):
+        return self._worst(self.from_start)
+
+    @property
+    def worst_from_entry(self):
+        return self._worst(self.from_entry)
+
+    @property
+    def worst_from_first_stick(self):
+        return self._worst(self.from_first_stick)
+
+    @property
+    def worst_sticks(self):
+        return self._worst(self.sticks)
+
+
+def map_iterations(profile: ThreePhaseProfile, *, w: float, c_mu: float, x_mu: float, p, max_iter: int = 1000):
+    """Iterations of eq. (59) from x_0 = x_mu until x_k >= x_mu + p (x_f - x_mu), per level p.
+
+    x_f is the fixed point (eq. 60).  NaN where eq. (59) is invalid at an
+    iterate before the level is reached (:func:`stick_map_validity`) or the
+    level is not reached within ``max_iter`` iterations.
+    """
+    p = _check_levels(p)
+    fixed = x_mu + w * (profile.y2 - 1.0) / (c_mu - 1.0)
+    target = x_mu + p * (fixed - x_mu)
+    out = np.full(p.size, np.nan)
+    x = x_mu
+    for k in range(max_iter + 1):
+        newly = np.isnan(out) & (x >= target)
+        out[newly] = k
+        if not np.isnan(out).any():
+            break
+        if not stick_map_validity(x, profile, w=w, c_mu=c_mu, x_mu=x_mu).valid:
+            break
+        x = float(stick_map(x, profile, w=w, c_mu=c_mu, x_mu=x_mu))
+    return out
+
+
+def accumulation_speed(profile: ThreePhaseProfile, *, w: float, c_mu: float, p=(0.99, 0.999),
+                       n_entries: int = 64, offset: float = 0.5, max_periods: int = MAX_PERIODS,
+                       accumulation_tol: float = 1e-12) -> AccumulationSpeed:
+    """Times at which the steady-state entries reach x_mu + p (x_stick_min - x_mu) (Sect. 7.3)."""
+    levels = _check_levels(p)
+    r, pos = _positioning(profile, w, c_mu, n_entries, offset, max_periods, accumulation_tol, levels)
+    acc = (r["status"] == Outcome.ACCUMULATION)[:, None]
+    lt = r["level_time"]
+    keep = lambda a: np.where(acc, a, np.nan)  # noqa: E731
+    return AccumulationSpeed(
+        p=levels, from_start=keep(lt), from_entry=keep(lt - r["entry_time"][:, None]),
+        from_first_stick=keep(lt - r["first_stick_time"][:, None]), sticks=keep(r["level_sticks"].astype(float)),
+        map_iterations=map_iterations(profile, w=w, c_mu=c_mu, x_mu=pos.x_mu, p=levels), positioning=pos,
+    )
+
+
+# ---------------------------------------------------------------------------------------
+# Result files of the workflow stage "accumulation" (datasets, attrs[, groups] for write_h5)
+# ---------------------------------------------------------------------------------------
+
+def fig17_content(y2, y3, *, dt: float, dy: float, w: float, c_mu: float, n_entries: int,
+                  max_periods: int = MAX_PERIODS, levels=(0.99, 0.999), processes: int = 1):
+    """Datasets and attributes of ``results/accumulation/fig17.h5`` (Fig. 17, Sect. 7.2).
+
+    1-D ``y2``, ``y3``; 2-D [i_y2, i_y3]: ``case``, ``vbar``, ``f`` (steady state),
+    ``dx_d`` (eq. 39, NaN where no entry stops or the mass never reaches the zone),
+    ``frac_accumulate``, ``frac_stop``, ``frac_never_stop``, ``frac_undecided``,
+    ``x_stick_min``, ``overshoot_min``, ``overshoot_max`` (all three relative to x_mu),
+    ``contraction``; 3-D [i_y2, i_y3, level]: ``level_from_first_stick``,
+    ``level_from_entry``, ``level_sticks`` (worst case over accumulating entries);
+    1-D ``levels``.
+    """
+    y2, y3 = np.asarray(y2, dtype=float), np.asarray(y3, dtype=float)
+    if y2.ndim != 1 or y3.ndim != 1:
+        raise ValueError("y2 and y3 must be 1-D axes of the grid")
+    g2, g3 = np.meshgrid(y2, y3, indexing="ij")
+    grid = positioning_grid(dt, dy, g2, g3, w=w, c_mu=c_mu, n_entries=n_entries, max_periods=max_periods,
+                            levels=levels, processes=processes)
+    names = ("case", "vbar", "f", "dx_d", "frac_accumulate", "frac_stop", "frac_never_stop", "frac_undecided",
+             "x_stick_min", "overshoot_min", "overshoot_max", "contraction", "level_from_first_stick",
+             "level_from_entry", "level_sticks", "levels")
+    datasets = {"y2": y2, "y3": y3, **{name: getattr(grid, name) for name in names}}
+    attrs = {"dt": float(dt), "dy": float(dy), "w": float(w), "c_mu": float(c_mu), "n_entries": int(n_entries),
+             "max_periods": int(max_periods), "offset": 0.5, "events": grid.events,
+             "positions": "x_stick_min, overshoot_min, overshoot_max are relative to x_mu = Delta_x"}
+    return datasets, attrs
+
+
+def fig18_content(profile: ThreePhaseProfile, *, w: float, c_mu: float, x_mu: float = 0.0, points: int = 61,
+                  cobweb_periods: int = 30):
+    """Datasets and attributes of ``results/accumulation/fig18.h5`` (Fig. 18, Sect. 7.3).
+
+    ``x_n`` (``points`` positions on [x_mu, x_mu + w]), ``x_next_formula`` (eq. 59),
+    ``x_next_simulated`` (exact solver, :func:`stick_map_simulated`), ``valid``;
+    ``cobweb_accumulate`` / ``cobweb_rest``: the stick positions of exact runs started
+    stuck at t = 0 just above / below the threshold x_c (:func:`stick_map_threshold`).
+    Attributes: the profile, w, c_mu, x_mu, x_stick_min, x_threshold, contraction.
+    """
+    from .scene import Record, Scene
+    from .simulate import simulate
+    from .stick_map import stick_map_contraction, stick_map_simulated, stick_map_threshold
+    from .trajectory import EventKind
+
+    zone = StopZone(x_mu=x_mu, w=w, c_mu=c_mu)
+    kw = {"w": w, "c_mu": c_mu, "x_mu": x_mu}
+    x_n = np.linspace(x_mu, zone.x_end, points)
+    x_stick = zone.x_stick_min(profile.max_abs_acceleration)
+    x_c = float(stick_map_threshold(profile, **kw))
+
+    def cobweb(x0):
+        traj = simulate(Scene(profile, zone, x0=x0, periods=cobweb_periods, record=Record(events=True)),
+                        method="exact")
+        sticks = traj.events[traj.events["kind"] == EventKind.STICK]["x"]
+        return np.concatenate([[x0], sticks])
+
+    gap = 0.25 * min(x_c - x_mu, x_stick - x_c)
+    datasets = {
+        "x_n": x_n, "x_next_formula": stick_map(x_n, profile, **kw),
+        "x_next_simulated": stick_map_simulated(x_n, profile, **kw, method="exact"),
+        "valid": stick_map_validity(x_n, profile, **kw).valid,
+        "cobweb_accumulate": cobweb(x_c + gap), "cobweb_rest": cobweb(x_c - gap),
+    }
+    attrs = {**profile.params(), "w": float(w), "c_mu": float(c_mu), "x_mu": float(x_mu), "x_stick_min": x_stick,
+             "x_threshold": x_c, "contraction": stick_map_contraction(profile, **kw)}
+    return datasets, attrs
+
+
+def fig16_content(settings, *, dt: float, dy: float, w: float, c_mu: float, n_entries: int = 64,
+                  samples_per_period: int = 400):
+    """Contents of ``results/accumulation/fig16.h5`` (Figs. 14-16, Sects. 7.1-7.2) for write_h5.
+
+    One group per setting (y2'', y3'') named ``y2_<y2>_y3_<y3>``: the per-entry
+    results of :func:`positioning` (``s``, ``x0``, ``status``, ``x_end``, ``overshoot``,
+    ``first_stick_x``) and its scalars as attributes, plus subgroups ``entry_0`` and
+    ``entry_1`` with the exact solver's dense ``t``, ``x``, ``v`` of the two entries with
+    the lowest and the highest first stick in the zone (attribute ``index``).
+    """
+    from .scene import Record, Scene
+    from .simulate import simulate
+
+    groups = {}
+    for y2, y3 in settings:
+        profile = ThreePhaseProfile(dt, dy, y2, y3)
+        pos = positioning(profile, w=w, c_mu=c_mu, n_entries=n_entries)
+        entries = {}
+        for k, i in enumerate((int(np.nanargmin(pos.first_stick_x)), int(np.nanargmax(pos.first_stick_x)))):
+            traj = simulate(Scene(profile, pos.zone, x0=float(pos.x0[i]), v0=pos.v0, until="rest",
+                                  max_periods=MAX_PERIODS,
+                                  record=Record(series=("x", "v"), samples_per_period=samples_per_period)),
+                            method="exact")
+            entries[f"entry_{k}"] = {"datasets": {"t": traj.t, "x": traj.x, "v": traj.v},
+                                     "attrs": {"index": i, "status": traj.status.value, "x_end": traj.x_end}}
+        scalars = ("x_mu", "x_stick_min", "overshoot_min", "overshoot_max", "dx_d", "x_d", "vbar", "v0",
+                   "frac_accumulate", "frac_stop", "frac_never_stop", "frac_undecided", "accumulation", "case")
+        groups[f"y2_{y2:g}_y3_{y3:g}"] = {
+            "datasets": {name: getattr(pos, name) for name in ("s", "x0", "status", "x_end", "overshoot",
+                                                                "first_stick_x")},
+            "attrs": {"y2": float(y2), "y3": float(y3), **{name: getattr(pos, name) for name in scalars}},
+            "groups": entries,
+        }
+    attrs = {"dt": float(dt), "dy": float(dy), "w": float(w), "c_mu": float(c_mu), "n_entries": int(n_entries)}
+    return {}, attrs, groups

@@ -1,0 +1,15 @@
+"""The accumulation map of Fig. 18 (eq. 59 and the exact solver) into results/accumulation/fig18.h5."""
+
+from selfalign.pipeline import logged
+from selfalign.profiles import ThreePhaseProfile
+from selfalign.results import write_h5
+from selfalign.stopping import fig18_content
+
+with logged(snakemake.log[0]) as log:
+    p = snakemake.params
+    s = p.fig18
+    profile = ThreePhaseProfile(s["dt"], s["dy"], s["y2"], s["y3"])
+    datasets, attrs = fig18_content(profile, w=p.w, c_mu=p.c_mu, points=s["points"])
+    write_h5(snakemake.output[0], datasets, attrs)
+    log.info("fig18: %r, x_stick_min %r, threshold %r; written to %s", profile, attrs["x_stick_min"],
+             attrs["x_threshold"], snakemake.output[0])

@@ -1,0 +1,9 @@
+"""Fig. 17 from results/accumulation/fig17.h5."""
+
+from selfalign.pipeline import logged, save_figure
+from selfalign.plots_accumulation import figure_17
+from selfalign.results import read_h5
+
+with logged(snakemake.log[0]) as log:
+    save_figure(figure_17(read_h5(snakemake.input[0])), snakemake.output[0], dpi=snakemake.params.dpi)
+    log.info("figure 17 written to %s", snakemake.output[0])
