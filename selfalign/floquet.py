@@ -51,11 +51,11 @@ import numpy as np
 from .friction import StopZone, Uniform
 from .profiles import Profile, ThreePhaseProfile
 from .scene import Scene
+from .simulate import resolve_options
 from .solvers import arcs as _arcs
 from .solvers.exact import ExactSolver
 from .trajectory import EventKind
 
-METHODS = ("analytic", "saltation", "numeric")
 NUMERIC_SOLVERS = ("exact", "moreau")
 #: Options of each method, with their defaults.  ``max_periods`` bounds the search for
 #: the periodic motion; ``eps`` is the finite-difference step in x and x' (None:
@@ -120,13 +120,7 @@ def _system(profile_or_scene):
 
 
 def _check_options(method, options):
-    if method not in METHODS:
-        raise ValueError(f"method must be one of {list(METHODS)}, got {method!r}")
-    allowed = DEFAULT_OPTIONS[method]
-    unknown = sorted(set(options) - set(allowed))
-    if unknown:
-        raise ValueError(f"unknown option(s) {unknown} for method {method!r}; allowed: {sorted(allowed)}")
-    opts = {**allowed, **options}
+    opts = resolve_options(method, options, DEFAULT_OPTIONS)
     if "max_periods" in opts:
         mp = opts["max_periods"]
         if isinstance(mp, bool) or not isinstance(mp, numbers.Integral) or mp < 1:

@@ -16,11 +16,11 @@ DEFAULT_OPTIONS = {
 }
 
 
-def resolve_options(method: str, options: dict) -> dict:
-    """Merge ``options`` into the method's defaults; reject unknown names."""
-    if method not in METHODS:
-        raise ValueError(f"unknown method {method!r}; allowed: {', '.join(METHODS)}")
-    allowed = DEFAULT_OPTIONS[method]
+def resolve_options(method: str, options: dict, defaults: dict = DEFAULT_OPTIONS) -> dict:
+    """Merge ``options`` into ``defaults[method]``; reject unknown methods and option names."""
+    if method not in defaults:
+        raise ValueError(f"unknown method {method!r}; allowed: {', '.join(defaults)}")
+    allowed = defaults[method]
     unknown = sorted(set(options) - set(allowed))
     if unknown:
         raise ValueError(f"unknown option(s) {unknown} for method {method!r}; allowed: {sorted(allowed)}")

@@ -5,6 +5,9 @@ and the committed figures/*.png) from the current code instead of comparing
 against them; use it only after an intended change of a figure and review the diff.
 """
 
+import shutil
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -25,3 +28,25 @@ def update_figure_refs(request) -> bool:
 @pytest.fixture
 def repo() -> Path:
     return REPO
+
+
+SNAKEMAKE = [sys.executable, "-m", "snakemake"]
+
+
+def copy_workflow(repo: Path, dest: Path) -> Path:
+    """A runnable copy of the workflow in ``dest``; the scene-schema symlink becomes a plain file."""
+    shutil.copy(repo / "Snakefile", dest / "Snakefile")
+    shutil.copytree(repo / "workflow", dest / "workflow")
+    return dest
+
+
+@pytest.fixture
+def workdir(repo, tmp_path):
+    return copy_workflow(repo, tmp_path)
+
+
+def run_snakemake(workdir, *args):
+    """Run snakemake in ``workdir``; return (exit code, stdout + stderr)."""
+    proc = subprocess.run([*SNAKEMAKE, *args], cwd=workdir, capture_output=True,
+                          text=True, timeout=300)
+    return proc.returncode, proc.stdout + proc.stderr

@@ -215,7 +215,7 @@ def test_one_period_map_is_a_fixed_point(profiles):
 
 
 @pytest.mark.parametrize("call, message", [
-    (lambda p: floquet(p, "exact"), "method must be one of"),
+    (lambda p: floquet(p, "exact"), "unknown method"),
     (lambda p: floquet(p, "saltation", eps=1e-3), "unknown option"),
     (lambda p: floquet(p, "numeric", solver="ivp"), "option solver"),
     (lambda p: floquet(p, "numeric", h=1e-3), "applies to solver='moreau' only"),

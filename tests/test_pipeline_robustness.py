@@ -9,35 +9,20 @@ run before any job, naming the file and the key; two runs give identical HDF5 da
 
 import os
 import random
-import shutil
 import signal
 import subprocess
-import sys
 import time
 
 import numpy as np
 import pytest
+from conftest import SNAKEMAKE, copy_workflow, run_snakemake as snakemake
 
 from selfalign.results import read_h5
 
-SNAKEMAKE = [sys.executable, "-m", "snakemake"]
 #: A few jobs of the trajectory and simulation stages (a full run takes minutes).
 TARGETS = ["results/trajectory/fig07.h5", "results/trajectory/polynomial.h5",
            "results/simulation/fig09_case1.h5", "results/simulation/fig09_case4.h5",
            "results/simulation/stop_zone.h5", "results/simulation/polynomial.h5"]
-
-
-@pytest.fixture
-def workdir(repo, tmp_path):
-    """A runnable copy of the workflow; the scene-schema symlink becomes a plain file."""
-    shutil.copy(repo / "Snakefile", tmp_path / "Snakefile")
-    shutil.copytree(repo / "workflow", tmp_path / "workflow")
-    return tmp_path
-
-
-def snakemake(workdir, *args):
-    proc = subprocess.run([*SNAKEMAKE, *args], cwd=workdir, capture_output=True, text=True, timeout=300)
-    return proc.returncode, proc.stdout + proc.stderr
 
 
 def result_files(workdir):
@@ -97,8 +82,7 @@ def test_identical_inputs_give_identical_datasets(repo, tmp_path):
     for copy in ("a", "b"):
         work = tmp_path / copy
         work.mkdir()
-        shutil.copy(repo / "Snakefile", work / "Snakefile")
-        shutil.copytree(repo / "workflow", work / "workflow")
+        copy_workflow(repo, work)
         rc, out = snakemake(work, "-c2", *TARGETS)
         assert rc == 0, out
         runs.append({name: read_h5(work / name) for name in TARGETS})

@@ -6,34 +6,17 @@ is never touched).  The stage's library step, ``profile_samples``, is tested
 directly as well.
 """
 
-import shutil
-import subprocess
-import sys
-
 import numpy as np
 import pytest
 import yaml
+from conftest import run_snakemake as snakemake
 
 import selfalign
 from selfalign import load_scene, scene_from_dict
 from selfalign.pipeline import profile_samples
 from selfalign.results import read_h5
 
-SNAKEMAKE = [sys.executable, "-m", "snakemake"]
 NOTHING_TO_DO = "Nothing to be done"
-
-
-@pytest.fixture
-def workdir(repo, tmp_path):
-    """A runnable copy of the workflow; the scene-schema symlink becomes a plain file."""
-    shutil.copy(repo / "Snakefile", tmp_path / "Snakefile")
-    shutil.copytree(repo / "workflow", tmp_path / "workflow")
-    return tmp_path
-
-
-def snakemake(workdir, *args):
-    proc = subprocess.run([*SNAKEMAKE, *args], cwd=workdir, capture_output=True, text=True, timeout=300)
-    return proc.returncode, proc.stdout + proc.stderr
 
 
 def test_dry_run_plans_every_stage_job(workdir):
