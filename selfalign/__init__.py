@@ -1,8 +1,8 @@
 """selfalign: vibrational self-alignment of a rigid object exploiting friction.
 
 Reference implementation of Hunnekens, Fey, Shukla & Nijmeijer, Nonlinear
-Dynamics 65:109-129 (2011).  Only light modules are imported here; solvers,
-plotting and recording load on first use.
+Dynamics 65:109-129 (2011).  Importing it loads numpy and the package's own
+modules only; scipy, h5py, matplotlib and rerun load where they are used.
 """
 
 from .errors import NonPhysicalProfile, SceneError
@@ -11,10 +11,13 @@ from .profiles import FourierProfile, PiecewiseConstantProfile, PolynomialProfil
 from .scene import Record, Scene, load_scene, scene_from_dict
 from .simulate import simulate
 from .classification import classify
+from .floquet import floquet
+from .lyapunov import lyapunov_trace
 from .steady_state import SteadyState, steady_state
+from .stick_map import stick_map
+from .stopping import positioning
 from .trajectory import EventKind, Status, Trajectory
 from .units import SIScale
-
 
 
 def __getattr__(name):
@@ -30,6 +33,6 @@ def __getattr__(name):
 
 __all__ = [
     "FourierProfile", "NonPhysicalProfile", "PiecewiseConstantProfile", "PolynomialProfile",
-    "Record", "SIScale", "Scene", "SceneError", "SteadyState", "classify", "steady_state", "Status", "StopZone", "EventKind", "ThreePhaseProfile",
+    "Record", "SIScale", "floquet", "lyapunov_trace", "positioning", "stick_map", "Scene", "SceneError", "SteadyState", "classify", "steady_state", "Status", "StopZone", "EventKind", "ThreePhaseProfile",
     "Trajectory", "Uniform", "load_scene", "scene_from_dict", "simulate", "__version__",
 ]
