@@ -1,0 +1,9 @@
+"""Fig. 5 from results/classification/fig05.h5."""
+
+from selfalign.pipeline import logged, save_figure
+from selfalign.plots_classification import figure_05
+from selfalign.results import read_h5
+
+with logged(snakemake.log[0]) as log:
+    save_figure(figure_05(read_h5(snakemake.input[0])), snakemake.output[0], dpi=snakemake.params.dpi)
+    log.info("figure 5 from %s written to %s", snakemake.input[0], snakemake.output[0])

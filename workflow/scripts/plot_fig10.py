@@ -1,0 +1,10 @@
+"""Fig. 10 from results/classification/fig10.h5."""
+
+from selfalign.pipeline import logged, save_figure
+from selfalign.plots_classification import figure_map
+from selfalign.results import read_h5
+
+with logged(snakemake.log[0]) as log:
+    fig = figure_map(read_h5(snakemake.input[0]), snakemake.params.f_max)
+    save_figure(fig, snakemake.output[0], dpi=snakemake.params.dpi)
+    log.info("figure 10 from %s written to %s", snakemake.input[0], snakemake.output[0])
