@@ -2,7 +2,11 @@
 # Run from the repository top: `snakemake -c2`, or with the workflow profile
 # `snakemake --workflow-profile workflow/profiles/default`.  Layout: README.md, "Pipeline".
 
+from snakemake.exceptions import WorkflowError
 from snakemake.utils import min_version, validate
+
+from selfalign import SceneError
+from selfalign.scene import validate_config
 
 min_version("9.0")
 
@@ -10,11 +14,25 @@ min_version("9.0")
 configfile: "workflow/config/config.yaml"
 
 
+try:
+    # One line naming the file and the key, like a bad scene, before Snakemake's own
+    # validation (which also fills in the schema's defaults).
+    validate_config(config, f"{workflow.basedir}/workflow/schemas/config.schema.yaml",
+                    "workflow/config/config.yaml")
+except SceneError as exc:
+    raise WorkflowError(f"invalid config: {exc}") from None
 validate(config, "workflow/schemas/config.schema.yaml")
 
 
 include: "workflow/rules/common.smk"
 include: "workflow/rules/trajectory.smk"
+include: "workflow/rules/simulation.smk"
+include: "workflow/rules/accuracy.smk"
+include: "workflow/rules/benchmarks.smk"
+include: "workflow/rules/stability.smk"
+include: "workflow/rules/convergence.smk"
+include: "workflow/rules/classification.smk"
+include: "workflow/rules/accumulation.smk"
 
 
 rule all:

@@ -168,7 +168,7 @@ def _non_finite(data, path=()):
     return None
 
 
-def _schema_message(error) -> str:
+def schema_error_message(error) -> str:
     """One line for a jsonschema error: key, problem and what is allowed."""
     key = _key(error.absolute_path)
     kind = error.validator
@@ -203,7 +203,7 @@ def validate_scene_dict(data, source: str = "<scene>") -> None:
         # The deepest error names the offending key most precisely.
         # An unknown key says more than the required key it may be a typo of.
         error = max(errors, key=lambda e: (len(e.absolute_path), e.validator == "additionalProperties"))
-        raise SceneError(f"{source}: {_schema_message(error)}")
+        raise SceneError(f"{source}: {schema_error_message(error)}")
 
 
 def scene_from_dict(data: dict, source: str = "<scene>", name: str | None = None) -> Scene:
@@ -288,3 +288,22 @@ def load_scene(path) -> Scene:
         where = f" at line {mark.line + 1}" if mark else ""
         raise SceneError(f"{path}: not valid YAML{where}") from None
     return scene_from_dict(data, source=str(path), name=path.stem)
+
+
+def validate_config(config: dict, schema_path, source: str) -> None:
+    """Check a workflow config against its schema (which may $ref the scene schema).
+
+    Raises SceneError with one line naming ``source`` and the key, the same
+    form as a bad scene file.
+    """
+    import jsonschema
+    import yaml
+    from referencing import Registry, Resource
+
+    schema = yaml.safe_load(Path(schema_path).read_text())
+    registry = Registry().with_resource("scene.schema.yaml", Resource.from_contents(scene_schema()))
+    validator = jsonschema.Draft202012Validator(schema, registry=registry)
+    errors = list(validator.iter_errors(config))
+    if errors:
+        error = max(errors, key=lambda e: (len(e.absolute_path), e.validator == "additionalProperties"))
+        raise SceneError(f"{source}: {schema_error_message(error)}")
