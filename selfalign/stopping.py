@@ -428,9 +428,72 @@ def accumulation_speed(profile: ThreePhaseProfile, *, w: float, c_mu: float, p=(
 # Result files of the workflow stage "accumulation" (datasets, attrs[, groups] for write_h5)
 # ---------------------------------------------------------------------------------------
 
+#: Root attributes of fig17.h5 that every shard carries alike (besides ``events``, summed).
+FIG17_SETTING = ("dt", "dy", "w", "c_mu", "n_entries", "max_periods", "offset", "positions")
+#: 2-D [i_y2, i_y3] and 3-D [i_y2, i_y3, level] datasets of fig17.h5, split by rows across shards.
+FIG17_FIELDS = ("case", "vbar", "f", "dx_d", "frac_accumulate", "frac_stop", "frac_never_stop", "frac_undecided",
+                "x_stick_min", "overshoot_min", "overshoot_max", "contraction", "level_from_first_stick",
+                "level_from_entry", "level_sticks")
+
+
+def fig17_shard(y2, y3, rows: slice, *, dt: float, dy: float, w: float, c_mu: float, n_entries: int,
+                max_periods: int = MAX_PERIODS, levels=(0.99, 0.999), processes: int = 1):
+    """Datasets and attributes of one shard of the Fig. 17 sweep: the rows ``y2[rows]`` x all of ``y3``.
+
+    Datasets: :data:`FIG17_FIELDS` for those rows and ``levels``; attributes: those of
+    :func:`fig17_content` (``events`` counted over the shard) plus ``row_start``,
+    ``row_stop``, ``row_step`` (the slice ``rows``).  Every setting is simulated on its own
+    (batched, no coupling between members), so shards that cover the rows once
+    (:func:`selfalign.studies.shard_rows`, contiguous or interleaved) gather
+    (:func:`gather_fig17`) to the whole sweep bit for bit, for any number of shards.
+    """
+    y2, y3 = np.asarray(y2, dtype=float), np.asarray(y3, dtype=float)
+    if y2.ndim != 1 or y3.ndim != 1:
+        raise ValueError("y2 and y3 must be 1-D axes of the grid")
+    g2, g3 = np.meshgrid(y2[rows], y3, indexing="ij")
+    grid = positioning_grid(dt, dy, g2, g3, w=w, c_mu=c_mu, n_entries=n_entries, max_periods=max_periods,
+                            levels=levels, processes=processes)
+    datasets = {name: getattr(grid, name) for name in FIG17_FIELDS + ("levels",)}
+    start, stop, step = rows.indices(y2.size)
+    attrs = {"dt": float(dt), "dy": float(dy), "w": float(w), "c_mu": float(c_mu), "n_entries": int(n_entries),
+             "max_periods": int(max_periods), "offset": 0.5, "events": grid.events,
+             "positions": "x_stick_min, overshoot_min, overshoot_max are relative to x_mu = Delta_x",
+             "row_start": start, "row_stop": stop, "row_step": step}
+    return datasets, attrs
+
+
+def gather_fig17(y2, y3, shards: list[dict]):
+    """Datasets and attributes of ``results/accumulation/fig17.h5`` from the shards of
+    :func:`fig17_shard`, each a dict with ``datasets`` and ``attrs`` (as
+    :func:`selfalign.results.read_h5` returns it).  Together the shards must cover every row
+    of ``y2`` exactly once, with the same setting; each row is put back in its place, and
+    ``events`` is their sum."""
+    y2, y3 = np.asarray(y2, dtype=float), np.asarray(y3, dtype=float)
+    if not shards:
+        raise ValueError("gather_fig17: no shards given")
+    setting = {k: shards[0]["attrs"][k] for k in FIG17_SETTING}
+    for i, shard in enumerate(shards):
+        if {k: shard["attrs"][k] for k in FIG17_SETTING} != setting or not np.array_equal(shard["datasets"]["levels"], shards[0]["datasets"]["levels"]):
+            raise ValueError(f"gather_fig17: shard {i} was computed with another setting than shard 0")
+    # order[k]: the row of y2 that the k-th concatenated shard row belongs to.
+    order = np.concatenate([np.arange(y2.size)[slice(int(a["row_start"]), int(a["row_stop"]), int(a["row_step"]))]
+                            for a in (s["attrs"] for s in shards)])
+    if not np.array_equal(np.sort(order), np.arange(y2.size)):
+        raise ValueError(f"gather_fig17: the shards do not cover each of the {y2.size} rows of y2 exactly once")
+    place = np.argsort(order)
+    datasets = {"y2": y2, "y3": y3}
+    for name in FIG17_FIELDS:
+        datasets[name] = np.concatenate([s["datasets"][name] for s in shards], axis=0)[place]
+        if datasets[name].shape[:2] != (y2.size, y3.size):
+            raise ValueError(f"gather_fig17: {name!r} has shape {datasets[name].shape}, expected "
+                             f"{(y2.size, y3.size)} in its first two axes")
+    datasets["levels"] = shards[0]["datasets"]["levels"]
+    return datasets, {**setting, "events": int(sum(int(s["attrs"]["events"]) for s in shards))}
+
+
 def fig17_content(y2, y3, *, dt: float, dy: float, w: float, c_mu: float, n_entries: int,
                   max_periods: int = MAX_PERIODS, levels=(0.99, 0.999), processes: int = 1):
-    """Datasets and attributes of ``results/accumulation/fig17.h5`` (Fig. 17, Sect. 7.2).
+    """Datasets and attributes of ``results/accumulation/fig17.h5`` (Fig. 17, Sect. 7.2), in one piece.
 
     1-D ``y2``, ``y3``; 2-D [i_y2, i_y3]: ``case``, ``vbar``, ``f`` (steady state),
     ``dx_d`` (eq. 39, NaN where no entry stops or the mass never reaches the zone),
@@ -438,22 +501,13 @@ def fig17_content(y2, y3, *, dt: float, dy: float, w: float, c_mu: float, n_entr
     ``x_stick_min``, ``overshoot_min``, ``overshoot_max`` (all three relative to x_mu),
     ``contraction``; 3-D [i_y2, i_y3, level]: ``level_from_first_stick``,
     ``level_from_entry``, ``level_sticks`` (worst case over accumulating entries);
-    1-D ``levels``.
+    1-D ``levels``.  The workflow computes the same in shards (:func:`fig17_shard`,
+    :func:`gather_fig17`).
     """
-    y2, y3 = np.asarray(y2, dtype=float), np.asarray(y3, dtype=float)
-    if y2.ndim != 1 or y3.ndim != 1:
-        raise ValueError("y2 and y3 must be 1-D axes of the grid")
-    g2, g3 = np.meshgrid(y2, y3, indexing="ij")
-    grid = positioning_grid(dt, dy, g2, g3, w=w, c_mu=c_mu, n_entries=n_entries, max_periods=max_periods,
-                            levels=levels, processes=processes)
-    names = ("case", "vbar", "f", "dx_d", "frac_accumulate", "frac_stop", "frac_never_stop", "frac_undecided",
-             "x_stick_min", "overshoot_min", "overshoot_max", "contraction", "level_from_first_stick",
-             "level_from_entry", "level_sticks", "levels")
-    datasets = {"y2": y2, "y3": y3, **{name: getattr(grid, name) for name in names}}
-    attrs = {"dt": float(dt), "dy": float(dy), "w": float(w), "c_mu": float(c_mu), "n_entries": int(n_entries),
-             "max_periods": int(max_periods), "offset": 0.5, "events": grid.events,
-             "positions": "x_stick_min, overshoot_min, overshoot_max are relative to x_mu = Delta_x"}
-    return datasets, attrs
+    y2 = np.asarray(y2, dtype=float)
+    datasets, attrs = fig17_shard(y2, y3, slice(0, y2.size), dt=dt, dy=dy, w=w, c_mu=c_mu, n_entries=n_entries,
+                                  max_periods=max_periods, levels=levels, processes=processes)
+    return gather_fig17(y2, y3, [{"datasets": datasets, "attrs": attrs}])
 
 
 def fig18_content(profile: ThreePhaseProfile, *, w: float, c_mu: float, x_mu: float = 0.0, points: int = 61,

@@ -1,25 +1,42 @@
 # Stage "accumulation": stopping in the high-friction zone (Sect. 7) -- the Fig. 17 sweep
 # with the batched exact solver, the accumulation map of Fig. 18, the phase portraits of
-# Fig. 16 (whose per-entry results also give the sketches of Figs. 14 and 15).
+# Fig. 16 (whose per-entry results also give the sketches of Figs. 14 and 15).  The Fig. 17
+# sweep is computed in `shards` row blocks of y2'' (one single-process job each, like the
+# classification maps) and gathered; the gathered file does not depend on the shard count.
 #
 # Parameters: config["stages"]["accumulation"].
-ACCUMULATION = {k: v for k, v in config["stages"]["accumulation"].items() if k != "scenes"}
+# `shards` is a parameter of the shard jobs only: changing it must not rerun the other rules.
+ACCUMULATION = {k: v for k, v in config["stages"]["accumulation"].items() if k not in ("scenes", "shards")}
+FIG17_SHARDS = config["stages"]["accumulation"]["shards"]
 
 
 def _setting_key(pair):
     return f"y2_{pair[0]:g}_y3_{pair[1]:g}"
 
 
-rule compute_fig17:
+rule compute_fig17_shard:
+    output:
+        shard_result("accumulation", "fig17"),
+    params:
+        **ACCUMULATION,
+        shards=FIG17_SHARDS,
+    log:
+        log_file("accumulation", "shards/fig17_{shard}"),
+    benchmark:
+        "results/benchmarks/accumulation/shards/fig17_{shard}.tsv"
+    script:
+        "../scripts/compute_fig17.py"
+
+
+rule gather_fig17:
+    input:
+        shard_results("accumulation", "fig17", FIG17_SHARDS),
     output:
         results("accumulation", "fig17"),
     params:
         **ACCUMULATION,
-    threads: 2
     log:
         log_file("accumulation", "fig17"),
-    benchmark:
-        "results/benchmarks/accumulation/fig17.tsv"
     script:
         "../scripts/compute_fig17.py"
 

@@ -38,13 +38,12 @@ rule compute_fig06:
 
 rule compute_map_shard:
     output:
-        results("classification", "shards/{map}_{shard}"),
+        shard_result("classification", "{map}"),
     params:
         map=lambda wildcards: CLASSIFICATION["maps"][wildcards.map],
         shards=MAP_SHARDS,
     wildcard_constraints:
         map="|".join(re.escape(m) for m in MAPS),
-        shard=r"\d+",
     log:
         log_file("classification", "shards/{map}_{shard}"),
     script:
@@ -53,7 +52,7 @@ rule compute_map_shard:
 
 rule gather_map:
     input:
-        lambda wildcards: [results("classification", f"shards/{wildcards.map}_{i}") for i in range(MAP_SHARDS)],
+        lambda wildcards: shard_results("classification", wildcards.map, MAP_SHARDS),
     output:
         results("classification", "{map}"),
     params:

@@ -27,6 +27,17 @@ def results(stage, name, ext="h5"):
     return f"results/{stage}/{name}.{ext}"
 
 
+def shard_result(stage, name, shard="{shard}"):
+    """Path of one shard of a sharded sweep: results/<stage>/shards/<name>_<shard>.h5 (a row
+    block of the sweep's first axis, `selfalign.studies.shard_rows`)."""
+    return results(stage, f"shards/{name}_{shard}")
+
+
+def shard_results(stage, name, shards):
+    """The `shards` shard paths of `name`, in row order: the inputs of its gather rule."""
+    return [shard_result(stage, name, i) for i in range(shards)]
+
+
 def log_file(stage, name):
     return f"results/logs/{stage}/{name}.log"
 
@@ -58,3 +69,4 @@ SCENES = _load_scenes()
 
 wildcard_constraints:
     scene="|".join(re.escape(n) for n in sorted(SCENES)),
+    shard=r"\d+",
