@@ -127,7 +127,7 @@ def test_accumulation_speed_claim():
     """Sect. 7.3: "x_mu + p (x_stick_min - x_mu) is reached in at most 5 period times for
     p = 0.99 and in at most 7 for p = 0.999".  Verified (101 x 101 grid, 64 entries; this
     test a 21 x 21 grid with 16 entries) in this sense: counted from the first stick in the
-    zone (worst case over accumulating entries 3.77 and 6.72 periods), equivalently at most
+    zone (worst case over accumulating entries 3.76 and 6.71 periods), equivalently at most
     5 and 7 stick events after the first one.  Counted from the entry (first arrival at
     x_mu) it fails for p = 0.999 on the diagonal y2'' = y3'' (7.97 periods at (2.5, 2.5),
     where the slowest accumulations occur, contraction 0.49)."""

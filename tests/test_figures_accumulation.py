@@ -1,0 +1,125 @@
+"""Figure regression for the stopping figures (Figs. 14-18, Sect. 7).
+
+Same pattern as tests/test_figures.py: each figure is rebuilt from freshly
+computed data (the accumulation stage's library calls with the workflow
+config's settings, through HDF5 as in the pipeline) and the numbers it shows
+are compared with ``tests/figure_refs/<fig>.json`` (rtol 1e-9); the pixels with
+the committed ``figures/<fig>.png`` only under the pinned matplotlib series.
+``--update-figure-refs`` rewrites both.
+
+Fig. 17's full grid (101 x 101 settings x 64 entries) takes ~25 s, so the test
+draws it from a coarse grid (COARSE_AXIS settings per axis, COARSE_ENTRIES
+entries): its reference is that coarse figure, and the committed
+``figures/fig17.png`` (the workflow's full grid) is not compared.
+"""
+
+import shutil
+
+import matplotlib
+import numpy as np
+import pytest
+import yaml
+from test_figures import ATOL, PIXEL_TOL, RTOL, pinned_matplotlib_series
+
+from selfalign.figcheck import compare_figure_data, compare_pixels, figure_data, load_reference, save_reference
+from selfalign.pipeline import save_figure
+from selfalign.plots_accumulation import figure_14, figure_15, figure_16, figure_17, figure_18
+from selfalign.profiles import ThreePhaseProfile
+from selfalign.results import read_h5, write_h5
+from selfalign.stopping import fig16_content, fig17_content, fig18_content
+
+FIGURES = ("fig14", "fig15", "fig16", "fig17", "fig18")
+#: Figures whose committed PNG is drawn from the same data the test computes.
+PIXEL_FIGURES = ("fig14", "fig15", "fig16", "fig18")
+#: The coarse Fig. 17 grid of the test: settings per axis (same range as the config), entries per setting.
+COARSE_AXIS, COARSE_ENTRIES = 9, 8
+
+
+def config(repo):
+    return yaml.safe_load((repo / "workflow/config/config.yaml").read_text())
+
+
+def stage(repo, **changes):
+    """The config's ``stages.accumulation`` with ``changes`` applied."""
+    return {**config(repo)["stages"]["accumulation"], **changes}
+
+
+def setting_key(pair):
+    """The fig16.h5 group name of a setting, as the rules' ``_setting_key``."""
+    return f"y2_{pair[0]:g}_y3_{pair[1]:g}"
+
+
+def build(name, p, tmp_path):
+    """Figure ``name`` from the stage's library steps with settings ``p`` (scene -> HDF5 -> figure)."""
+    h5 = tmp_path / f"{name}.h5"
+    if name == "fig17":
+        axis = np.linspace(*p["fig17_axis"][:2], COARSE_AXIS)
+        write_h5(h5, *fig17_content(axis, axis, dt=p["dt"], dy=p["dy"], w=p["w"], c_mu=p["c_mu"],
+                                    n_entries=COARSE_ENTRIES, max_periods=p["max_periods"], levels=p["levels"]))
+        return figure_17(read_h5(h5))
+    if name == "fig18":
+        s = p["fig18"]
+        write_h5(h5, *fig18_content(ThreePhaseProfile(s["dt"], s["dy"], s["y2"], s["y3"]), w=p["w"],
+                                    c_mu=p["c_mu"], points=s["points"]))
+        return figure_18(read_h5(h5))
+    settings = [tuple(pair) for pair in p["fig16_settings"]]
+    write_h5(h5, *fig16_content(settings, dt=p["dt"], dy=p["dy"], w=p["w"], c_mu=p["c_mu"],
+                                n_entries=p["n_entries"]))
+    result = read_h5(h5)
+    if name == "fig16":
+        return figure_16(result, [setting_key(pair) for pair in settings])
+    # Figs. 14 and 15 show the last setting of Fig. 16, as the plot rules do.
+    return {"fig14": figure_14, "fig15": figure_15}[name](result, setting_key(settings[-1]))
+
+
+@pytest.mark.parametrize("name", FIGURES)
+def test_figure_data_matches_reference(repo, tmp_path, update_figure_refs, name):
+    """Figs. 14-16 (Sects. 7.1-7.2), 17 (Sect. 7.2, coarse grid) and 18 (Sect. 7.3) show the
+    same numbers as their committed references, rtol 1e-9."""
+    ref_path = repo / f"tests/figure_refs/{name}.json"
+    fig = build(name, stage(repo), tmp_path)
+    data = figure_data(fig)
+    if update_figure_refs:
+        save_reference(data, ref_path)
+        if name in PIXEL_FIGURES:
+            save_figure(fig, repo / f"figures/{name}.png", dpi=config(repo)["figures"]["dpi"])
+        pytest.skip("figure references rewritten")
+    diffs = compare_figure_data(data, load_reference(ref_path), rtol=RTOL, atol=ATOL)
+    assert not diffs, "\n".join(diffs[:20])
+
+
+@pytest.mark.parametrize("name", FIGURES)
+def test_figure_pixels_match_committed_png(repo, tmp_path, name):
+    """The committed figures/<name>.png is what the current code draws (RMS <= 1 of 255)."""
+    if name not in PIXEL_FIGURES:
+        pytest.skip(f"figures/{name}.png is the workflow's full 101 x 101 grid; the test draws a "
+                    f"{COARSE_AXIS} x {COARSE_AXIS} grid, so only its data are compared")
+    series = pinned_matplotlib_series(repo)
+    if not matplotlib.__version__.startswith(series + "."):
+        pytest.skip(f"pixels are compared under matplotlib {series}.* only; this is {matplotlib.__version__}")
+    fresh = save_figure(build(name, stage(repo), tmp_path), tmp_path / f"{name}.png",
+                        dpi=config(repo)["figures"]["dpi"])
+    committed = tmp_path / f"{name}-committed.png"
+    shutil.copyfile(repo / f"figures/{name}.png", committed)
+    rms = compare_pixels(fresh, committed, tol=PIXEL_TOL)
+    assert rms is None, f"figures/{name}.png differs from the current drawing: RMS {rms}"
+
+
+def test_fig18_comparison_catches_friction_change(repo, tmp_path):
+    """The check can fail: c_mu 1 % larger (2.5 -> 2.525) is reported on the eq. (59) line of Fig. 18."""
+    p = stage(repo)
+    changed = build("fig18", stage(repo, c_mu=p["c_mu"] * 1.01), tmp_path)
+    diffs = compare_figure_data(figure_data(changed), load_reference(repo / "tests/figure_refs/fig18.json"),
+                                rtol=RTOL, atol=ATOL)
+    assert any(d.startswith("figure.axes[0].lines[0].y") for d in diffs), diffs
+
+
+def test_fig16_comparison_catches_setting_change(repo, tmp_path):
+    """The check can fail: y3'' of the lower Fig. 16 panel 1 % larger (1.1 -> 1.111) is reported
+    on its phase portrait."""
+    settings = [list(pair) for pair in stage(repo)["fig16_settings"]]
+    settings[-1][1] *= 1.01
+    changed = build("fig16", stage(repo, fig16_settings=settings), tmp_path)
+    diffs = compare_figure_data(figure_data(changed), load_reference(repo / "tests/figure_refs/fig16.json"),
+                                rtol=RTOL, atol=ATOL)
+    assert any(d.startswith(f"figure.axes[{len(settings) - 1}].lines[0].x") for d in diffs), diffs
