@@ -10,7 +10,6 @@ closed form.  The Fourier profile of Sect. 4.4.2 is smooth.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np

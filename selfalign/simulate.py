@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from importlib import import_module
 
-from .scene import METHODS, Scene
+from .scene import Scene
 from .trajectory import Trajectory
 
 #: Options each method accepts, with their defaults.

@@ -37,6 +37,18 @@ def pinned_matplotlib_series(repo):
     assert len(pins) == 1, f"pyproject.toml must pin matplotlib as ==X.Y.*, got {deps}"
     return pins[0]
 
+def assert_pixels_match(repo, fig, name, tmp_path, dpi):
+    """figures/<name>.png is what ``fig`` draws (RMS <= PIXEL_TOL of 255); compared under the
+    pinned matplotlib series only, since other FreeType/matplotlib versions move pixels."""
+    series = pinned_matplotlib_series(repo)
+    if not matplotlib.__version__.startswith(series + "."):
+        pytest.skip(f"pixels are compared under matplotlib {series}.* only; this is {matplotlib.__version__}")
+    fresh = save_figure(fig, tmp_path / f"{name}.png", dpi=dpi)
+    committed = tmp_path / f"{name}-committed.png"
+    shutil.copyfile(repo / f"figures/{name}.png", committed)
+    rms = compare_pixels(fresh, committed, tol=PIXEL_TOL)
+    assert rms is None, f"figures/{name}.png differs from the current drawing: RMS {rms}"
+
 
 def build_fig07(scene, tmp_path):
     """The pipeline's steps without Snakemake: scene -> HDF5 -> figure."""
@@ -70,14 +82,7 @@ def test_fig07_data_matches_reference(repo, fig07_scene, tmp_path, update_figure
 
 def test_fig07_pixels_match_committed_png(repo, fig07_scene, tmp_path, dpi):
     """The committed figures/fig07.png is what the current code draws (RMS <= 1 of 255)."""
-    series = pinned_matplotlib_series(repo)
-    if not matplotlib.__version__.startswith(series + "."):
-        pytest.skip(f"pixels are compared under matplotlib {series}.* only; this is {matplotlib.__version__}")
-    fresh = save_figure(build_fig07(fig07_scene, tmp_path), tmp_path / "fig07.png", dpi=dpi)
-    committed = tmp_path / "fig07-committed.png"
-    shutil.copyfile(repo / "figures/fig07.png", committed)
-    rms = compare_pixels(fresh, committed, tol=PIXEL_TOL)
-    assert rms is None, f"figures/fig07.png differs from the current drawing: RMS {rms}"
+    assert_pixels_match(repo, build_fig07(fig07_scene, tmp_path), "fig07", tmp_path, dpi)
 
 
 def test_fig07_comparison_catches_stroke_change(repo, fig07_scene, tmp_path):
@@ -122,14 +127,7 @@ def test_fig13_data_matches_reference(repo, fig13_setup, tmp_path, update_figure
 
 def test_fig13_pixels_match_committed_png(repo, fig13_setup, tmp_path, dpi):
     """The committed figures/fig13.png is what the current code draws (RMS <= 1 of 255)."""
-    series = pinned_matplotlib_series(repo)
-    if not matplotlib.__version__.startswith(series + "."):
-        pytest.skip(f"pixels are compared under matplotlib {series}.* only; this is {matplotlib.__version__}")
-    fresh = save_figure(build_fig13(*fig13_setup, tmp_path), tmp_path / "fig13.png", dpi=dpi)
-    committed = tmp_path / "fig13-committed.png"
-    shutil.copyfile(repo / "figures/fig13.png", committed)
-    rms = compare_pixels(fresh, committed, tol=PIXEL_TOL)
-    assert rms is None, f"figures/fig13.png differs from the current drawing: RMS {rms}"
+    assert_pixels_match(repo, build_fig13(*fig13_setup, tmp_path), "fig13", tmp_path, dpi)
 
 
 def test_fig13_comparison_catches_start_change(repo, fig13_setup, tmp_path):
@@ -208,14 +206,7 @@ def test_classification_figure_data_matches_reference(name, repo, tmp_path, upda
 @pytest.mark.parametrize("name", CLASSIFICATION_FIGURES)
 def test_classification_figure_pixels_match_committed_png(name, repo, tmp_path, dpi):
     """The committed figures/<fig>.png is what the current code draws (RMS <= 1 of 255)."""
-    series = pinned_matplotlib_series(repo)
-    if not matplotlib.__version__.startswith(series + "."):
-        pytest.skip(f"pixels are compared under matplotlib {series}.* only; this is {matplotlib.__version__}")
-    fresh = save_figure(build_classification_figure(name, repo, tmp_path), tmp_path / f"{name}.png", dpi=dpi)
-    committed = tmp_path / f"{name}-committed.png"
-    shutil.copyfile(repo / f"figures/{name}.png", committed)
-    rms = compare_pixels(fresh, committed, tol=PIXEL_TOL)
-    assert rms is None, f"figures/{name}.png differs from the current drawing: RMS {rms}"
+    assert_pixels_match(repo, build_classification_figure(name, repo, tmp_path), name, tmp_path, dpi)
 
 
 @pytest.mark.parametrize("name", CLASSIFICATION_FIGURES)

@@ -13,15 +13,13 @@ entries): its reference is that coarse figure, and the committed
 ``figures/fig17.png`` (the workflow's full grid) is not compared.
 """
 
-import shutil
 
-import matplotlib
 import numpy as np
 import pytest
 import yaml
-from test_figures import ATOL, PIXEL_TOL, RTOL, pinned_matplotlib_series
+from test_figures import ATOL, RTOL, assert_pixels_match
 
-from selfalign.figcheck import compare_figure_data, compare_pixels, figure_data, load_reference, save_reference
+from selfalign.figcheck import compare_figure_data, figure_data, load_reference, save_reference
 from selfalign.pipeline import save_figure
 from selfalign.plots_accumulation import figure_14, figure_15, figure_16, figure_17, figure_18
 from selfalign.profiles import ThreePhaseProfile
@@ -94,15 +92,8 @@ def test_figure_pixels_match_committed_png(repo, tmp_path, name):
     if name not in PIXEL_FIGURES:
         pytest.skip(f"figures/{name}.png is the workflow's full 101 x 101 grid; the test draws a "
                     f"{COARSE_AXIS} x {COARSE_AXIS} grid, so only its data are compared")
-    series = pinned_matplotlib_series(repo)
-    if not matplotlib.__version__.startswith(series + "."):
-        pytest.skip(f"pixels are compared under matplotlib {series}.* only; this is {matplotlib.__version__}")
-    fresh = save_figure(build(name, stage(repo), tmp_path), tmp_path / f"{name}.png",
-                        dpi=config(repo)["figures"]["dpi"])
-    committed = tmp_path / f"{name}-committed.png"
-    shutil.copyfile(repo / f"figures/{name}.png", committed)
-    rms = compare_pixels(fresh, committed, tol=PIXEL_TOL)
-    assert rms is None, f"figures/{name}.png differs from the current drawing: RMS {rms}"
+    assert_pixels_match(repo, build(name, stage(repo), tmp_path), name, tmp_path,
+                        config(repo)["figures"]["dpi"])
 
 
 def test_fig18_comparison_catches_friction_change(repo, tmp_path):

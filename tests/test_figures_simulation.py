@@ -11,17 +11,15 @@ its errors (the y data, from a small study) are compared, and its PNG (written
 by the workflow from the full study) is not.
 """
 
-import shutil
 
-import matplotlib
 import pytest
 import yaml
-from test_figures import ATOL, PIXEL_TOL, RTOL, pinned_matplotlib_series
+from test_figures import ATOL, RTOL, assert_pixels_match
 
 from selfalign import load_scene, simulate
 from selfalign.accuracy import StudySettings, study
 from selfalign.classification import CASE_LABELS, classify
-from selfalign.figcheck import compare_figure_data, compare_pixels, figure_data, load_reference, save_reference
+from selfalign.figcheck import compare_figure_data, figure_data, load_reference, save_reference
 from selfalign.pipeline import save_figure
 from selfalign.plots_simulation import figure_03, figure_09, figure_12, figure_accuracy_cost
 from selfalign.profiles import ThreePhaseProfile
@@ -77,14 +75,7 @@ def test_figure_data_matches_reference(repo, tmp_path, update_figure_refs, name)
 @pytest.mark.parametrize("name", FIGURES)
 def test_figure_pixels_match_committed_png(repo, tmp_path, name):
     """The committed figures/<name>.png is what the current code draws (RMS <= 1 of 255)."""
-    series = pinned_matplotlib_series(repo)
-    if not matplotlib.__version__.startswith(series + "."):
-        pytest.skip(f"pixels are compared under matplotlib {series}.* only; this is {matplotlib.__version__}")
-    fresh = save_figure(build(name, repo, tmp_path), tmp_path / f"{name}.png", dpi=config(repo)["figures"]["dpi"])
-    committed = tmp_path / f"{name}-committed.png"
-    shutil.copyfile(repo / f"figures/{name}.png", committed)
-    rms = compare_pixels(fresh, committed, tol=PIXEL_TOL)
-    assert rms is None, f"figures/{name}.png differs from the current drawing: RMS {rms}"
+    assert_pixels_match(repo, build(name, repo, tmp_path), name, tmp_path, config(repo)["figures"]["dpi"])
 
 
 def test_fig09_comparison_catches_acceleration_change(repo, tmp_path):
