@@ -49,6 +49,21 @@ def assert_pixels_match(repo, fig, name, tmp_path, dpi):
     rms = compare_pixels(fresh, committed, tol=PIXEL_TOL)
     assert rms is None, f"figures/{name}.png differs from the current drawing: RMS {rms}"
 
+def assert_data_matches(repo, fig, name, update, dpi=None):
+    """The plotted data of ``fig`` equal tests/figure_refs/<name>.json (rtol RTOL, atol ATOL).
+
+    With ``--update-figure-refs`` (``update``) the reference is rewritten instead, and so is
+    figures/<name>.png when ``dpi`` is given (figures whose committed PNG is drawn here)."""
+    ref_path = repo / f"tests/figure_refs/{name}.json"
+    data = figure_data(fig)
+    if update:
+        save_reference(data, ref_path)
+        if dpi is not None:
+            save_figure(fig, repo / f"figures/{name}.png", dpi=dpi)
+        pytest.skip("figure references rewritten")
+    diffs = compare_figure_data(data, load_reference(ref_path), rtol=RTOL, atol=ATOL)
+    assert not diffs, "\n".join(diffs[:20])
+
 
 def build_fig07(scene, tmp_path):
     """The pipeline's steps without Snakemake: scene -> HDF5 -> figure."""
@@ -69,15 +84,8 @@ def dpi(repo):
 
 def test_fig07_data_matches_reference(repo, fig07_scene, tmp_path, update_figure_refs, dpi):
     """Fig. 7 (Sect. 4.4.3) shows the same numbers as the committed reference, rtol 1e-9."""
-    ref_path = repo / "tests/figure_refs/fig07.json"
-    fig = build_fig07(fig07_scene, tmp_path)
-    data = figure_data(fig)
-    if update_figure_refs:
-        save_reference(data, ref_path)
-        save_figure(fig, repo / "figures/fig07.png", dpi=dpi)
-        pytest.skip("figure references rewritten")
-    diffs = compare_figure_data(data, load_reference(ref_path), rtol=RTOL, atol=ATOL)
-    assert not diffs, "\n".join(diffs[:20])
+    assert_data_matches(repo, build_fig07(fig07_scene, tmp_path), "fig07", update_figure_refs,
+                        dpi)
 
 
 def test_fig07_pixels_match_committed_png(repo, fig07_scene, tmp_path, dpi):
@@ -114,15 +122,8 @@ def fig13_setup(repo):
 
 def test_fig13_data_matches_reference(repo, fig13_setup, tmp_path, update_figure_refs, dpi):
     """Fig. 13 (Sect. 6.2) shows the same numbers as the committed reference, rtol 1e-9."""
-    ref_path = repo / "tests/figure_refs/fig13.json"
-    fig = build_fig13(*fig13_setup, tmp_path)
-    data = figure_data(fig)
-    if update_figure_refs:
-        save_reference(data, ref_path)
-        save_figure(fig, repo / "figures/fig13.png", dpi=dpi)
-        pytest.skip("figure references rewritten")
-    diffs = compare_figure_data(data, load_reference(ref_path), rtol=RTOL, atol=ATOL)
-    assert not diffs, "\n".join(diffs[:20])
+    assert_data_matches(repo, build_fig13(*fig13_setup, tmp_path), "fig13", update_figure_refs,
+                        dpi)
 
 
 def test_fig13_pixels_match_committed_png(repo, fig13_setup, tmp_path, dpi):
@@ -192,15 +193,8 @@ CHANGE_SHOWS_IN = {"fig04": "figure.axes[0].lines[0].y", "fig05": "figure.axes[0
 def test_classification_figure_data_matches_reference(name, repo, tmp_path, update_figure_refs, dpi):
     """Figs. 4, 5 (Sect. 4.4.1), 8 (Sect. 5.1) and 10, 11 (Sect. 5.2) show the same numbers as
     the committed references, rtol 1e-9."""
-    ref_path = repo / f"tests/figure_refs/{name}.json"
-    fig = build_classification_figure(name, repo, tmp_path)
-    data = figure_data(fig)
-    if update_figure_refs:
-        save_reference(data, ref_path)
-        save_figure(fig, repo / f"figures/{name}.png", dpi=dpi)
-        pytest.skip("figure references rewritten")
-    diffs = compare_figure_data(data, load_reference(ref_path), rtol=RTOL, atol=ATOL)
-    assert not diffs, "\n".join(diffs[:20])
+    assert_data_matches(repo, build_classification_figure(name, repo, tmp_path), name,
+                        update_figure_refs, dpi)
 
 
 @pytest.mark.parametrize("name", CLASSIFICATION_FIGURES)
@@ -239,13 +233,7 @@ def test_fig06_data_matches_reference(repo, tmp_path, update_figure_refs):
     reference, rtol 1e-9.  The committed figures/fig06.png is the workflow's full run (the
     config's iteration budget, ~45 s), so it is not compared here, and the update writes only
     the JSON.  (Later iterations depend on BLAS rounding, see optimise_fourier.)"""
-    ref_path = repo / "tests/figure_refs/fig06.json"
-    data = figure_data(build_fig06(repo, tmp_path))
-    if update_figure_refs:
-        save_reference(data, ref_path)
-        pytest.skip("figure reference rewritten")
-    diffs = compare_figure_data(data, load_reference(ref_path), rtol=RTOL, atol=ATOL)
-    assert not diffs, "\n".join(diffs[:20])
+    assert_data_matches(repo, build_fig06(repo, tmp_path), "fig06", update_figure_refs)
 
 
 def test_fig06_comparison_catches_stroke_change(repo, tmp_path):

@@ -17,10 +17,9 @@ entries): its reference is that coarse figure, and the committed
 import numpy as np
 import pytest
 import yaml
-from test_figures import ATOL, RTOL, assert_pixels_match
+from test_figures import ATOL, RTOL, assert_data_matches, assert_pixels_match
 
-from selfalign.figcheck import compare_figure_data, figure_data, load_reference, save_reference
-from selfalign.pipeline import save_figure
+from selfalign.figcheck import compare_figure_data, figure_data, load_reference
 from selfalign.plots_accumulation import figure_14, figure_15, figure_16, figure_17, figure_18
 from selfalign.profiles import ThreePhaseProfile
 from selfalign.results import read_h5, write_h5
@@ -74,16 +73,8 @@ def build(name, p, tmp_path):
 def test_figure_data_matches_reference(repo, tmp_path, update_figure_refs, name):
     """Figs. 14-16 (Sects. 7.1-7.2), 17 (Sect. 7.2, coarse grid) and 18 (Sect. 7.3) show the
     same numbers as their committed references, rtol 1e-9."""
-    ref_path = repo / f"tests/figure_refs/{name}.json"
-    fig = build(name, stage(repo), tmp_path)
-    data = figure_data(fig)
-    if update_figure_refs:
-        save_reference(data, ref_path)
-        if name in PIXEL_FIGURES:
-            save_figure(fig, repo / f"figures/{name}.png", dpi=config(repo)["figures"]["dpi"])
-        pytest.skip("figure references rewritten")
-    diffs = compare_figure_data(data, load_reference(ref_path), rtol=RTOL, atol=ATOL)
-    assert not diffs, "\n".join(diffs[:20])
+    assert_data_matches(repo, build(name, stage(repo), tmp_path), name, update_figure_refs,
+                        config(repo)["figures"]["dpi"] if name in PIXEL_FIGURES else None)
 
 
 @pytest.mark.parametrize("name", FIGURES)

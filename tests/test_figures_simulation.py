@@ -14,13 +14,12 @@ by the workflow from the full study) is not.
 
 import pytest
 import yaml
-from test_figures import ATOL, RTOL, assert_pixels_match
+from test_figures import ATOL, RTOL, assert_data_matches, assert_pixels_match
 
 from selfalign import load_scene, simulate
 from selfalign.accuracy import StudySettings, study
 from selfalign.classification import CASE_LABELS, classify
 from selfalign.figcheck import compare_figure_data, figure_data, load_reference, save_reference
-from selfalign.pipeline import save_figure
 from selfalign.plots_simulation import figure_03, figure_09, figure_12, figure_accuracy_cost
 from selfalign.profiles import ThreePhaseProfile
 from selfalign.results import read_h5, write_h5
@@ -61,15 +60,8 @@ def build(name, repo, tmp_path):
 @pytest.mark.parametrize("name", FIGURES)
 def test_figure_data_matches_reference(repo, tmp_path, update_figure_refs, name):
     """Figs. 3, 9 and 12 show the same numbers as their committed references, rtol 1e-9."""
-    ref_path = repo / f"tests/figure_refs/{name}.json"
-    fig = build(name, repo, tmp_path)
-    data = figure_data(fig)
-    if update_figure_refs:
-        save_reference(data, ref_path)
-        save_figure(fig, repo / f"figures/{name}.png", dpi=config(repo)["figures"]["dpi"])
-        pytest.skip("figure references rewritten")
-    diffs = compare_figure_data(data, load_reference(ref_path), rtol=RTOL, atol=ATOL)
-    assert not diffs, "\n".join(diffs[:20])
+    assert_data_matches(repo, build(name, repo, tmp_path), name, update_figure_refs,
+                        config(repo)["figures"]["dpi"])
 
 
 @pytest.mark.parametrize("name", FIGURES)
