@@ -59,9 +59,15 @@ def profile_sketch(fig, t, y, yd, ydd, marks: dict[str, float], title: str = "")
         ax.axhline(0.0, color="0.4", linewidth=0.8)
         ax.legend(handles=ax.collections[:2], loc=where, fontsize="small", title=condition,
                   title_fontsize="small", frameon=False)
-    for label, time in marks.items():
-        for ax in (ax_y, ax_v, ax_a):
-            ax.axvline(time, color="0.5", linestyle=":", linewidth=1.0)
-        ax_y.text(time, 1.02, label, transform=ax_y.get_xaxis_transform(), ha="center", va="bottom")
+    mark_times((ax_y, ax_v, ax_a), marks)
     ax_a.set_xlim(t[0], t[-1])
     return fig
+
+
+def mark_times(axes, marks: dict[str, float]):
+    """Dotted vertical lines at ``marks`` (label -> time) in every one of ``axes``, labelled
+    above the first."""
+    for label, time in marks.items():
+        for ax in axes:
+            ax.axvline(time, color="0.5", linestyle=":", linewidth=1.0)
+        axes[0].text(time, 1.02, label, transform=axes[0].get_xaxis_transform(), ha="center", va="bottom")

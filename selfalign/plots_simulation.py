@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .plots import mark_times
 from .scene import Scene
 from .simulation_results import scene_from_result, trajectory_from_result
 from .trajectory import EventKind
@@ -155,10 +156,7 @@ def case1_period(fig, t, ydd, friction, v, x, marks: dict[str, float], title: st
     ax_x.plot(t, x, color="k", label="$x$")
     ax_x.set_ylabel("$x$")
     ax_x.set_xlabel("$t$")
-    for label, time in marks.items():
-        for ax in (ax_a, ax_v, ax_x):
-            ax.axvline(time, color="0.5", linestyle=":", linewidth=1.0)
-        ax_a.text(time, 1.02, label, transform=ax_a.get_xaxis_transform(), ha="center", va="bottom")
+    mark_times((ax_a, ax_v, ax_x), marks)
     ax_x.set_xlim(t[0], t[-1])
     return fig
 
