@@ -6,7 +6,7 @@ from snakemake.exceptions import WorkflowError
 from snakemake.utils import min_version, validate
 
 from selfalign import SceneError
-from selfalign.scene import validate_config
+from selfalign.io.scene_files import validate_config
 
 min_version("9.0")
 

@@ -18,7 +18,7 @@ import time
 
 import numpy as np
 
-from selfalign.stopping import positioning_grid
+from selfalign.analysis.positioning import positioning_grid
 
 DT, DY, W, C_MU = 1.0, 0.084, 0.05, 2.5
 

@@ -12,8 +12,8 @@ import time
 
 import numpy as np
 
-from selfalign.classification import classify_grid
-from selfalign.steady_state import monodromy_grid, steady_state_grid
+from selfalign.analysis.classification import classify_grid
+from selfalign.analysis.steady_state import monodromy_grid, steady_state_grid
 
 #: The Fig. 17 setting (dy = 0.084, dt = 1): its axes cover cases 0-4.
 DY, DT = 0.084, 1.0

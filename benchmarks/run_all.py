@@ -4,7 +4,7 @@ Run from the repository top:  .venv/bin/python benchmarks/run_all.py [--no-pipel
 Exact vs Moreau at equal accuracy, single-trajectory events/s, batched sweep throughput
 next to the arithmetic bound, the full `snakemake -c2` pipeline from a clean results/
 (in a temporary copy of the workflow), and peak memory, with the machine description.
-The measurements are selfalign.benchmarks; the workflow runs the same via
+The measurements are `benchmarks/measure.py`; the workflow runs the same via
 `snakemake -c2 benchmarks`.
 """
 
@@ -14,7 +14,7 @@ import argparse
 import json
 from pathlib import Path
 
-from selfalign import benchmarks
+import measure
 
 REPO = Path(__file__).resolve().parent.parent
 
@@ -26,8 +26,8 @@ def main(argv=None) -> dict:
     parser.add_argument("--cores", type=int, default=2, help="cores of the pipeline run (default 2)")
     parser.add_argument("--json", type=Path, help="also write the raw numbers to this file")
     args = parser.parse_args(argv)
-    report = benchmarks.run(None if args.no_pipeline else REPO, tiny=args.tiny, cores=args.cores)
-    print(benchmarks.format_table(report))
+    report = measure.run(None if args.no_pipeline else REPO, tiny=args.tiny, cores=args.cores)
+    print(measure.format_table(report))
     if args.json:
         args.json.write_text(json.dumps(report, indent=2))
     return report

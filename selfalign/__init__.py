@@ -5,19 +5,20 @@ Dynamics 65:109-129 (2011).  Importing it loads numpy and the package's own
 modules only; scipy, h5py, matplotlib and rerun load where they are used.
 """
 
-from .errors import NonPhysicalProfile, SceneError
-from .friction import StopZone, Uniform
-from .profiles import FourierProfile, PiecewiseConstantProfile, PolynomialProfile, ThreePhaseProfile
-from .scene import Record, Scene, load_scene, scene_from_dict
-from .simulate import simulate
-from .classification import classify
-from .floquet import floquet
-from .lyapunov import lyapunov_trace
-from .steady_state import SteadyState, steady_state
-from .stick_map import stick_map
-from .stopping import positioning
-from .trajectory import EventKind, Status, Trajectory
-from .units import SIScale
+from .model.errors import NonPhysicalProfile, SceneError
+from .model.friction import StopZone, Uniform
+from .model.profiles import FourierProfile, PiecewiseConstantProfile, PolynomialProfile, ThreePhaseProfile
+from .model.scene import Record, Scene
+from .io.scene_files import load_scene, scene_from_dict
+from .solvers.driver import simulate
+from .analysis.classification import classify
+from .analysis.floquet import floquet
+from .analysis.lyapunov import lyapunov_trace
+from .analysis.steady_state import SteadyState, steady_state
+from .analysis.stick_map import stick_map
+from .analysis.positioning import positioning
+from .solvers.outcomes import EventKind, Status, Trajectory
+from .model.units import SIScale
 
 
 def __getattr__(name):

@@ -1,4 +1,4 @@
-"""The work-precision study (selfalign.accuracy) on small settings: orders and agreement, no timings.
+"""The work-precision study (selfalign.analysis.accuracy) on small settings: orders and agreement, no timings.
 
 CPU times are measured but never asserted (they go to results/accuracy and
 results/benchmarks); the tests check the fitted Moreau order, the agreement of
@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 
 from selfalign import load_scene
-from selfalign.accuracy import StudySettings, fit_loglog, loglog_interpolate, study
-from selfalign.results import read_h5, write_h5
-from selfalign.steady_state import steady_state
+from selfalign.analysis.accuracy import StudySettings, fit_loglog, loglog_interpolate, study
+from selfalign.io.hdf5 import read_h5, write_h5
+from selfalign.analysis.steady_state import steady_state
 
 #: Small settings: Moreau n = 100 .. 1e5 steps per period (3 decades, 13 values), solve_ivp at
 #: three tolerances, every run timed once.

@@ -6,7 +6,7 @@ import pytest
 
 from selfalign import EventKind, Record, Scene, Status, StopZone, ThreePhaseProfile, Uniform, simulate
 from selfalign.solvers.batch import Outcome, Reason, profile_pieces, solve_batch, three_phase_pieces
-from selfalign.steady_state import steady_state, steady_state_grid
+from selfalign.analysis.steady_state import steady_state, steady_state_grid
 
 W, C_MU = 0.05, 2.5
 

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from selfalign import ThreePhaseProfile
-from selfalign.classification import (
+from selfalign.analysis.classification import (
     CASE_LABELS,
     DECISION_TREE,
     Condition,
@@ -17,7 +17,7 @@ from selfalign.classification import (
     classify_grid,
     decision_quantities,
 )
-from selfalign.steady_state import steady_state_grid
+from selfalign.analysis.steady_state import steady_state_grid
 
 
 def test_tree_is_a_complete_flow_chart():

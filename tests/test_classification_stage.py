@@ -13,11 +13,11 @@ import pytest
 import yaml
 from matplotlib.colors import to_rgb
 
-from selfalign.classification import CASE_LABELS, DECISION_TREE, Decision, DecisionTree
-from selfalign.figcheck import figure_data
-from selfalign.plots_classification import CASE_COLORS, figure_08, tree_layout
-from selfalign.results import read_h5, write_h5
-from selfalign.studies import MAP_FIELDS, gather_map, map_shard, shard_rows
+from selfalign.analysis.classification import CASE_LABELS, DECISION_TREE, Decision, DecisionTree
+from figcheck import figure_data
+from selfalign.plots.classification import CASE_COLORS, figure_08, tree_layout
+from selfalign.io.hdf5 import read_h5, write_h5
+from selfalign.analysis.studies import MAP_FIELDS, gather_map, map_shard, shard_rows
 
 
 REPO = Path(__file__).resolve().parents[1]

@@ -7,7 +7,7 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import selfalign as sa
-from selfalign.solvers import arcs
+from selfalign.model import arcs
 from selfalign.solvers.exact import ExactSolver, iterate_events
 
 # Sect. 5.1 / 7.3 settings: y2'' = 2.2, y3'' = 0.9, dt = 1.05, dy = 0.084; zone w = 0.05, c_mu = 2.5.
@@ -45,7 +45,7 @@ def test_case1_steady_state_matches_closed_form():
     kinds = [sa.EventKind(k).name for k in traj.events["kind"]]
     assert kinds == ["SWITCH", "SLIP", "SWITCH", "STICK"]
     slip, at_t2, stick = traj.events[1], traj.events[2], traj.events[3]
-    assert slip["tau"] == p.t1 and slip["x"] == 0.0 and slip["mode"] == sa.trajectory.FORWARD_SLIP
+    assert slip["tau"] == p.t1 and slip["x"] == 0.0 and slip["mode"] == sa.solvers.outcomes.FORWARD_SLIP
     assert at_t2["tau"] == p.t2
     assert abs(at_t2["x"] - x2) <= 1e-12 and abs(at_t2["v"] - v2) <= 1e-12
     assert abs(stick["tau"] - t_stop) <= 1e-12 and abs(stick["x"] - x_stop) <= 1e-12

@@ -4,7 +4,7 @@ import json
 import numpy as np
 from matplotlib.figure import Figure
 
-from selfalign.figcheck import compare_figure_data, compare_pixels, figure_data, load_reference, save_reference
+from figcheck import compare_figure_data, compare_pixels, figure_data, load_reference, save_reference
 
 
 def make_figure(scale=1.0, label="part", nan=True):

@@ -1,7 +1,7 @@
 """Figure regression: figures rebuilt from fresh data match the committed references.
 
 The numbers a figure shows are compared with ``tests/figure_refs/<fig>.json``
-(``selfalign.figcheck.figure_data``; rtol 1e-9); the pixels are compared with the
+(``figcheck.figure_data``; rtol 1e-9); the pixels are compared with the
 committed ``figures/<fig>.png`` only under the pinned matplotlib series, whose
 rendering the PNG was made with.  After an intended change, rewrite both with
 ``python -m pytest tests/test_figures.py --update-figure-refs`` and review the diff.
@@ -17,10 +17,10 @@ import pytest
 import yaml
 
 from selfalign import load_scene
-from selfalign.figcheck import compare_figure_data, compare_pixels, figure_data, load_reference, save_reference
-from selfalign.pipeline import figure_07, profile_samples, save_figure
-from selfalign.profiles import ThreePhaseProfile
-from selfalign.results import read_h5, write_h5
+from figcheck import compare_figure_data, compare_pixels, figure_data, load_reference, save_reference
+from selfalign.stages.common import figure_07, profile_samples, save_figure
+from selfalign.model.profiles import ThreePhaseProfile
+from selfalign.io.hdf5 import read_h5, write_h5
 
 #: Relative tolerance on figure data: the numbers come from closed forms, so only rounding differs.
 RTOL = 1e-9
@@ -104,8 +104,8 @@ def test_fig07_comparison_catches_stroke_change(repo, fig07_scene, tmp_path):
 
 def build_fig13(scene, v20, tmp_path):
     """The convergence stage's steps without Snakemake: scene -> HDF5 -> figure."""
-    from selfalign.lyapunov import convergence_result
-    from selfalign.plots_stability import figure_13
+    from selfalign.analysis.lyapunov import convergence_result
+    from selfalign.plots.stability import figure_13
 
     h5 = tmp_path / f"{scene.name}.h5"
     write_h5(h5, *convergence_result(scene, v20))
@@ -152,9 +152,9 @@ def build_classification_figure(name, repo, tmp_path, change=None):
     (sweeps, maps) or, for Fig. 8, swaps the branches of the last decision."""
     from dataclasses import replace
 
-    from selfalign.classification import DECISION_TREE, DecisionTree
-    from selfalign.plots_classification import figure_04, figure_05, figure_08, figure_map
-    from selfalign.studies import gather_map, map_shard, polynomial_sweep
+    from selfalign.analysis.classification import DECISION_TREE, DecisionTree
+    from selfalign.plots.classification import figure_04, figure_05, figure_08, figure_map
+    from selfalign.analysis.studies import gather_map, map_shard, polynomial_sweep
 
     stage, figures = classification_config(repo)
     h5 = tmp_path / f"{name}.h5"
@@ -218,8 +218,8 @@ FIG06_TEST_ITERATIONS = 2
 
 def build_fig06(repo, tmp_path, dy_factor=1.0):
     """Fig. 6 from fig06_results with FIG06_TEST_ITERATIONS SLSQP iterations."""
-    from selfalign.plots_classification import figure_06
-    from selfalign.studies import fig06_results
+    from selfalign.plots.classification import figure_06
+    from selfalign.analysis.studies import fig06_results
 
     p = classification_config(repo)[0]["fourier"]
     datasets, attrs, _ = fig06_results(p["dt"], p["dy"] * dy_factor, p["yd_max"], p["ydd_max"], order=p["order"],

@@ -17,13 +17,13 @@ import yaml
 from test_figures import ATOL, RTOL, assert_data_matches, assert_pixels_match
 
 from selfalign import load_scene, simulate
-from selfalign.accuracy import StudySettings, study
-from selfalign.classification import CASE_LABELS, classify
-from selfalign.figcheck import compare_figure_data, figure_data, load_reference, save_reference
-from selfalign.plots_simulation import figure_03, figure_09, figure_12, figure_accuracy_cost
-from selfalign.profiles import ThreePhaseProfile
-from selfalign.results import read_h5, write_h5
-from selfalign.simulation_results import trajectory_content
+from selfalign.analysis.accuracy import StudySettings, study
+from selfalign.analysis.classification import CASE_LABELS, classify
+from figcheck import compare_figure_data, figure_data, load_reference, save_reference
+from selfalign.plots.simulation import figure_03, figure_09, figure_12, figure_accuracy_cost
+from selfalign.model.profiles import ThreePhaseProfile
+from selfalign.io.hdf5 import read_h5, write_h5
+from selfalign.stages.simulation import trajectory_content
 
 FIGURES = ("fig03", "fig09", "fig12")
 

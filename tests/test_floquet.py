@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from selfalign import FourierProfile, PolynomialProfile, Scene, StopZone, ThreePhaseProfile, load_scene
-from selfalign.floquet import (
+from selfalign.analysis.floquet import (
     EXACT_EPS,
     floquet,
     monodromy_from_record,
@@ -20,8 +20,8 @@ from selfalign.floquet import (
     stability_result,
 )
 from selfalign.solvers.exact import ExactSolver
-from selfalign.steady_state import steady_state_grid
-from selfalign.trajectory import EventKind
+from selfalign.analysis.steady_state import steady_state_grid
+from selfalign.solvers.outcomes import EventKind
 
 #: Grids of three-phase settings (dt, dy, y2'' = y3'' axis): Fig. 17's setting holds cases 1-4,
 #: Fig. 11's cases 1, 2, 3, 5 (see tests/test_steady_state.py); dt = 1, dy = 0.2 adds a

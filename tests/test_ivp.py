@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 import selfalign as sa
-from selfalign.stick_map import stick_map as closed_form_stick_map
-from selfalign.simulate import DEFAULT_OPTIONS
+from selfalign.analysis.stick_map import stick_map as closed_form_stick_map
+from selfalign.solvers.driver import DEFAULT_OPTIONS
 from selfalign.solvers import ivp
 
 PROFILE = sa.ThreePhaseProfile(1.05, 0.084, 2.2, 0.9)   # Fig. 18 settings: case 1

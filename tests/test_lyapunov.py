@@ -5,11 +5,11 @@ import numpy as np
 import pytest
 
 from selfalign import FourierProfile, PolynomialProfile, Scene, StopZone, ThreePhaseProfile, load_scene
-from selfalign.lyapunov import convergence_result, lyapunov_trace, recording_series, scene_trace
-from selfalign.recording import read_recording, write_recording
-from selfalign.results import read_h5, write_h5
+from selfalign.analysis.lyapunov import convergence_result, lyapunov_trace, recording_series, scene_trace
+from selfalign.io.recording import read_recording, write_recording
+from selfalign.io.hdf5 import read_h5, write_h5
 from selfalign.solvers.exact import ExactSolver
-from selfalign.steady_state import steady_state
+from selfalign.analysis.steady_state import steady_state
 
 EPS = np.finfo(float).eps
 

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import selfalign as sa
-from selfalign.stick_map import stick_map as closed_form_stick_map
+from selfalign.analysis.stick_map import stick_map as closed_form_stick_map
 from selfalign.solvers.moreau import exact_impulse, fixed_point_impulse, friction_function, make_step, solve_batch
 
 # Fig. 18 settings (Sect. 7.3): case 1 on the uniform surface (y2 > 1, y3 < 1).

@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 from conftest import SNAKEMAKE, copy_workflow, run_snakemake as snakemake
 
-from selfalign.results import read_h5
+from selfalign.io.hdf5 import read_h5
 
 #: A few jobs of the trajectory and simulation stages (a full run takes minutes).
 TARGETS = ["results/trajectory/fig07.h5", "results/trajectory/polynomial.h5",

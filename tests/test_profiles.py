@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from selfalign import FourierProfile, NonPhysicalProfile, PolynomialProfile, ThreePhaseProfile
-from selfalign.profiles import three_phase_feasibility, three_phase_times
+from selfalign.model.profiles import three_phase_feasibility, three_phase_times
 
 rng = np.random.default_rng(20110101)
 

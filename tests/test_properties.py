@@ -16,7 +16,7 @@ import numpy as np
 from hypothesis import HealthCheck, given, settings, strategies as st
 
 import selfalign as sa
-from selfalign.trajectory import STICK
+from selfalign.solvers.outcomes import STICK
 
 settings.register_profile("ci", derandomize=True, database=None, max_examples=60, deadline=None,
                           suppress_health_check=[HealthCheck.too_slow])

@@ -1,4 +1,5 @@
 import subprocess
+from pathlib import Path
 import sys
 
 import numpy as np
@@ -6,7 +7,7 @@ import pytest
 import rerun as rr
 from rerun.chunk import RrdReader
 
-from selfalign.recording import default_groups, read_recording, write_recording
+from selfalign.io.recording import default_groups, read_recording, write_recording
 
 
 @pytest.fixture
@@ -96,7 +97,8 @@ def test_failure_mid_write_leaves_nothing(tmp_path, monkeypatch):
 
 
 def test_heavy_libraries_load_lazily():
-    code = ("import sys, selfalign, selfalign.results, selfalign.recording, selfalign.figcheck; "
+    code = ("import sys, selfalign, selfalign.io.hdf5, selfalign.io.recording, figcheck; "
             "print(sorted(m for m in ('rerun', 'matplotlib') if m in sys.modules))")
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
+                         cwd=Path(__file__).parent)
     assert out.stdout.strip() == "[]"

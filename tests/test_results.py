@@ -7,8 +7,8 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 import selfalign
-from selfalign import results
-from selfalign.results import atomic_path, atomic_write, read_h5, write_h5
+from selfalign.io import hdf5 as results
+from selfalign.io.hdf5 import atomic_path, atomic_write, read_h5, write_h5
 
 
 def test_round_trip_datasets_attrs_groups(tmp_path):

@@ -7,9 +7,12 @@ import shutil
 import subprocess
 import sys
 
+from pathlib import Path
+
 import pytest
 
-from selfalign import benchmarks
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+import measure  # noqa: E402
 
 SNAKEMAKE = [sys.executable, "-m", "snakemake"]
 #: Modules that `import selfalign` must not load: they are imported where they are used.
@@ -72,7 +75,7 @@ def test_slurm_profile_heavy_rule_resources_and_unknown_rules(workdir):
 
 def test_benchmarks_run_tiny_structure():
     """Every benchmark runs in a tiny configuration and the table has one row per measurement."""
-    report = benchmarks.run(tiny=True)
+    report = measure.run(tiny=True)
     assert {"platform", "cpu", "cores", "python", "numpy"} <= set(report["machine"])
     (row,) = report["exact_vs_moreau"]
     assert row["tolerance"] == 1e-2 and row["exact_s"] > 0 and row["moreau_s"] > 0
@@ -85,7 +88,7 @@ def test_benchmarks_run_tiny_structure():
     assert all(r["count"] > 0 and r["trajectories"] == 64 for r in sweep)
     assert all(r["fma_bound"] >= r["numpy_bound"] > 0 for r in sweep[:2])
     assert report["pipeline"] is None and report["max_rss_mb"] > 0
-    table = benchmarks.format_table(report)
+    table = measure.format_table(report)
     assert table.startswith(f"Machine: {report['machine']['cpu']}")
     assert table.count("\n| ") == 2 + 1 + 2 + 3 + 1  # header, separator, one row per measurement
     json.dumps(report)  # the raw numbers are JSON as written by the workflow
@@ -100,12 +103,12 @@ def test_full_pipeline_times_a_copy(tmp_path):
         'rule all:\n    input: "figures/a.png", "results/s/a.h5"\n\n'
         'rule make:\n    output: "figures/{x}.png", "results/s/{x}.h5"\n'
         '    shell: "touch {output}"\n')
-    result = benchmarks.full_pipeline(repo, cores=1)
+    result = measure.full_pipeline(repo, cores=1)
     assert result["figures"] == ["a.png"] and result["results"] == 1 and result["seconds"] > 0
     assert not (repo / "results").exists() and not (repo / "figures").exists()
     (repo / "Snakefile").write_text('rule all:\n    input: "missing"\n')
     with pytest.raises(RuntimeError, match="failed in the benchmark copy"):
-        benchmarks.full_pipeline(repo, cores=1)
+        measure.full_pipeline(repo, cores=1)
 
 
 def test_run_all_script_prints_the_table(repo, tmp_path):

@@ -1,6 +1,6 @@
 """The simulation stage: trajectories to HDF5 and back, rerun recordings, the Fig. 9 scenes.
 
-The stage's library steps (``selfalign.simulation_results``) are tested directly;
+The stage's library steps (``selfalign.stages.simulation``) are tested directly;
 one test runs the stage's Snakemake rules for one scene in a temporary copy of
 the workflow.
 """
@@ -13,12 +13,12 @@ import numpy as np
 import pytest
 
 from selfalign import EventKind, Status, load_scene, simulate
-from selfalign.classification import classify
-from selfalign.recording import read_recording, write_recording
-from selfalign.results import read_h5, write_h5
-from selfalign.simulation_results import (RERUN_ENTITIES, event_datasets, rerun_series, scene_from_result,
+from selfalign.analysis.classification import classify
+from selfalign.io.recording import read_recording, write_recording
+from selfalign.io.hdf5 import read_h5, write_h5
+from selfalign.stages.simulation import (RERUN_ENTITIES, event_datasets, rerun_series, scene_from_result,
                                           trajectory_content, trajectory_from_result)
-from selfalign.trajectory import EVENT_DTYPE
+from selfalign.solvers.outcomes import EVENT_DTYPE
 
 
 def round_trip(traj, scene, tmp_path):

@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 from selfalign import Scene, ThreePhaseProfile, simulate
-from selfalign.classification import classify, classify_grid
-from selfalign.profiles import three_phase_times
-from selfalign.steady_state import (
+from selfalign.analysis.classification import classify, classify_grid
+from selfalign.model.profiles import three_phase_times
+from selfalign.analysis.steady_state import (
     OBJECTIVE_SCALE,
     SteadyState,
     floquet_multipliers_analytic,

@@ -5,7 +5,7 @@ import pytest
 
 from selfalign import StopZone, ThreePhaseProfile
 from selfalign.solvers.batch import Outcome, profile_pieces, solve_batch
-from selfalign.stick_map import (
+from selfalign.analysis.stick_map import (
     stick_map,
     stick_map_constants,
     stick_map_contraction,

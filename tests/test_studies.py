@@ -1,4 +1,4 @@
-"""Parameter studies of Sects. 4.3-5.2 (selfalign.studies): steady states by simulation, the
+"""Parameter studies of Sects. 4.3-5.2 (selfalign.analysis.studies): steady states by simulation, the
 polynomial-profile sweeps of Figs. 4-5, the Fourier shape optimisation of Fig. 6 and the
 verification of the closed-form maps of Figs. 10-11 against simulation."""
 
@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 
 from selfalign import FourierProfile, PolynomialProfile, ThreePhaseProfile
-from selfalign.classification import decision_quantities
-from selfalign.profiles import three_phase_times
-from selfalign.steady_state import steady_state, steady_state_grid
-from selfalign.studies import (
+from selfalign.analysis.classification import decision_quantities
+from selfalign.model.profiles import three_phase_times
+from selfalign.analysis.steady_state import steady_state, steady_state_grid
+from selfalign.analysis.studies import (
     OBJECTIVE_SCALE,
     RTOL,
     VERIFY_BAND,

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 import selfalign as sa
-from selfalign.stick_map import stick_map_contraction
+from selfalign.analysis.stick_map import stick_map_contraction
 
 EPS = np.finfo(float).eps
 FIG18 = sa.ThreePhaseProfile(1.05, 0.084, 2.2, 0.9)  # Sect. 5.1 / 7.3 settings, case 1
@@ -146,7 +146,7 @@ def test_zero_length_stick_on_case_boundary():
     kinds = [sa.EventKind(k) for k in one.events["kind"]]
     assert kinds[0] is sa.EventKind.STICK and one.events["tau"][0] == 0.5
     slip = [e for e in one.events if e["kind"] == sa.EventKind.SLIP]
-    assert len(slip) == 1 and slip[0]["tau"] == 0.5 and slip[0]["mode"] == sa.trajectory.FORWARD_SLIP
+    assert len(slip) == 1 and slip[0]["tau"] == 0.5 and slip[0]["mode"] == sa.solvers.outcomes.FORWARD_SLIP
     assert one.stats["events"] <= 6
     ivp = run(ZERO_STICK, method="ivp", v0=-0.5, periods=n)
     assert ivp.x_end == pytest.approx(3 * n / 16, rel=1e-10)
@@ -461,7 +461,7 @@ def test_bad_solver_options_raise(method, options, name):
 def test_stick_map_rejects_non_finite_positions(x_n):
     """Hazard: a non-finite x_n given to the closed-form stick map of eq. (59).  Expected:
     ValueError naming x_n, not a NaN (or inf) stick position."""
-    from selfalign.stick_map import stick_map
+    from selfalign.analysis.stick_map import stick_map
     with pytest.raises(ValueError, match="x_n"):
         stick_map(x_n, FIG18, w=0.05, c_mu=2.5, x_mu=0.5)
 
@@ -472,7 +472,7 @@ def test_stick_map_rejects_non_finite_positions(x_n):
 def test_stick_map_rejects_bad_zone(kw, name):
     """Hazard: a non-finite or degenerate zone in the stick map.  Expected: ValueError naming
     the parameter."""
-    from selfalign.stick_map import stick_map
+    from selfalign.analysis.stick_map import stick_map
     with pytest.raises(ValueError, match=name):
         stick_map(0.5, FIG18, **{"w": 0.05, "c_mu": 2.5, "x_mu": 0.5, **kw})
 

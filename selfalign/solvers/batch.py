@@ -14,7 +14,7 @@ event with closed-form arcs:
 Events are the ends of the acceleration pieces, the zeros of the relative
 velocity (stick or reversal) and the crossings of the boundaries x_mu,
 x_mu + w and of optional user "levels" (whose first crossing times are
-recorded).  Positions between events come from :func:`selfalign.solvers.arcs.step`
+recorded).  Positions between events come from :func:`selfalign.model.arcs.step`
 (with ``xp=numpy``); the event times and event states are array versions
 written here, without cancellation: stop positions x + (R - A) with
 R - A = B^2 / (R + A) when needed, crossing velocities from the conserved
@@ -64,9 +64,9 @@ from enum import IntEnum
 
 import numpy as np
 
-from ..profiles import PiecewiseConstantProfile, three_phase_times
-from ..trajectory import Status
-from . import arcs
+from ..model.profiles import PiecewiseConstantProfile, three_phase_times
+from .outcomes import Status
+from ..model import arcs
 
 #: Number of earlier period-boundary states compared in the periodicity test.
 HISTORY = 8

@@ -4,7 +4,7 @@ Model (Sect. 3.2, eqs. 6 and 38; DESIGN): x'' + y''(t) in -mu_bar(x) Sign(x').
 
 Piecewise-constant profiles (ThreePhaseProfile, PolynomialProfile, any
 PiecewiseConstantProfile) are integrated in closed form between events
-(:mod:`selfalign.solvers.arcs`): a quadratic where mu_bar is constant (eqs. 15-20),
+(:mod:`selfalign.model.arcs`): a quadratic where mu_bar is constant (eqs. 15-20),
 a harmonic oscillator for forward slip in the transition zone (eqs. 42-44,
 omega = sqrt(b1)), its hyperbolic counterpart for backward slip there, and stick
 (x constant, eqs. 22-24).  Events, located in closed form:
@@ -80,11 +80,11 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..friction import StopZone, Uniform
-from ..profiles import FourierProfile
-from ..trajectory import EVENT_DTYPE, EventKind, Status, Trajectory
-from . import arcs
-from .arcs import HARMONIC, HYPERBOLIC, QUADRATIC, SMOOTH, STICK, decide_mode
+from ..model.friction import StopZone, Uniform
+from ..model.profiles import FourierProfile
+from .outcomes import EVENT_DTYPE, EventKind, Status, Trajectory
+from ..model import arcs
+from ..model.arcs import HARMONIC, HYPERBOLIC, QUADRATIC, SMOOTH, STICK, decide_mode
 
 _INF = math.inf
 _EPS = 2.0 ** -52

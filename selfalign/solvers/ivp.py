@@ -43,8 +43,8 @@ import time
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from ..friction import StopZone
-from ..trajectory import (BACKWARD_SLIP, EVENT_DTYPE, FORWARD_SLIP, STICK, EventKind, Status,
+from ..model.friction import StopZone
+from .outcomes import (BACKWARD_SLIP, EVENT_DTYPE, FORWARD_SLIP, STICK, EventKind, Status,
                           Trajectory)
 from .moreau import friction_function, model_series, reference_origin
 

@@ -65,8 +65,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..friction import StopZone
-from ..trajectory import BACKWARD_SLIP, FORWARD_SLIP, STICK, Status, Trajectory
+from ..model.friction import StopZone
+from .outcomes import BACKWARD_SLIP, FORWARD_SLIP, STICK, Status, Trajectory
 
 #: Relaxation r of the fixed-point iteration, in units of the friction bound h mu_bar:
 #: s <- proj_[-1,1](s + r v_{k+1}(s)) with r = FP_RELAXATION / (h mu_bar).  The map is a

@@ -3,10 +3,10 @@
 (rule record_convergence)."""
 
 from selfalign import load_scene
-from selfalign.lyapunov import convergence_result, recording_series
-from selfalign.pipeline import logged
-from selfalign.recording import write_recording
-from selfalign.results import read_h5, write_h5
+from selfalign.analysis.lyapunov import convergence_result, recording_series
+from selfalign.stages.common import logged
+from selfalign.io.recording import write_recording
+from selfalign.io.hdf5 import read_h5, write_h5
 
 with logged(snakemake.log[0]) as log:
     if snakemake.rule == "record_convergence":

@@ -4,9 +4,9 @@
 import numpy as np
 
 from selfalign import load_scene
-from selfalign.floquet import stability_grid, stability_result
-from selfalign.pipeline import logged
-from selfalign.results import write_h5
+from selfalign.analysis.floquet import stability_grid, stability_result
+from selfalign.stages.common import logged
+from selfalign.io.hdf5 import write_h5
 
 with logged(snakemake.log[0]) as log:
     if snakemake.rule == "compute_stability_grid":

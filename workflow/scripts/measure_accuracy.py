@@ -1,9 +1,9 @@
 """Work-precision study of a scene into results/accuracy/<scene>.h5."""
 
 from selfalign import load_scene
-from selfalign.accuracy import StudySettings, study
-from selfalign.pipeline import logged
-from selfalign.results import write_h5
+from selfalign.analysis.accuracy import StudySettings, study
+from selfalign.stages.common import logged
+from selfalign.io.hdf5 import write_h5
 
 with logged(snakemake.log[0]) as log:
     scene = load_scene(snakemake.input.scene)

@@ -1,10 +1,10 @@
 """Fig. 9 (one steady-state time history per case of Table 1) from simulation results."""
 
-from selfalign.classification import CASE_LABELS, classify
-from selfalign.pipeline import logged, save_figure
-from selfalign.plots_simulation import figure_09
-from selfalign.results import read_h5
-from selfalign.simulation_results import scene_from_result
+from selfalign.analysis.classification import CASE_LABELS, classify
+from selfalign.stages.common import logged, save_figure
+from selfalign.plots.simulation import figure_09
+from selfalign.io.hdf5 import read_h5
+from selfalign.stages.simulation import scene_from_result
 
 with logged(snakemake.log[0]) as log:
     results = [read_h5(path) for path in snakemake.input]

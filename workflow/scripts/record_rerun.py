@@ -1,9 +1,9 @@
 """Rerun recording results/rerun/<scene>.rrd of a simulation result's recorded series."""
 
-from selfalign.pipeline import logged
-from selfalign.recording import write_recording
-from selfalign.results import read_h5
-from selfalign.simulation_results import rerun_series, trajectory_from_result
+from selfalign.stages.common import logged
+from selfalign.io.recording import write_recording
+from selfalign.io.hdf5 import read_h5
+from selfalign.stages.simulation import rerun_series, trajectory_from_result
 
 with logged(snakemake.log[0]) as log:
     times, series = rerun_series(trajectory_from_result(read_h5(snakemake.input[0])))

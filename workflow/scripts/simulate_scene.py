@@ -1,9 +1,9 @@
 """Simulate a scene into results/simulation/<scene>.h5 (method and options from the scene)."""
 
 from selfalign import load_scene, simulate
-from selfalign.pipeline import logged
-from selfalign.results import write_h5
-from selfalign.simulation_results import trajectory_content
+from selfalign.stages.common import logged
+from selfalign.io.hdf5 import write_h5
+from selfalign.stages.simulation import trajectory_content
 
 with logged(snakemake.log[0]) as log:
     scene = load_scene(snakemake.input.scene)

@@ -1,9 +1,9 @@
 """Plot functions and figure builders for the simulation figures (Figs. 3, 9, 12) and the
 work-precision study (``accuracy_cost``).
 
-As in :mod:`selfalign.plots`, the plot functions draw data they are given onto
+As in :mod:`selfalign.plots.profile`, the plot functions draw data they are given onto
 matplotlib Axes (or a Figure for multi-panel plots) and return the figure; the
-builders ``figure_*`` take results in :func:`selfalign.results.read_h5` layout,
+builders ``figure_*`` take results in :func:`selfalign.io.hdf5.read_h5` layout,
 pick what is shown and call them.  Nothing here computes physics or writes
 files; only the object-oriented matplotlib API is used (headless).
 """
@@ -12,10 +12,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from .plots import mark_times
-from .scene import Scene
-from .simulation_results import scene_from_result, trajectory_from_result
-from .trajectory import EventKind
+from .profile import mark_times
+from ..model.scene import Scene
+from ..stages.simulation import scene_from_result, trajectory_from_result
+from ..solvers.outcomes import EventKind
 
 #: Colours of the methods in the work-precision figure.
 METHOD_STYLE = {
@@ -114,7 +114,7 @@ def figure_09(results: list[dict], cases: list[int], labels: dict[int, str], per
     """Fig. 9: the last ``periods`` periods of each result, titled with its case of Table 1.
 
     ``cases`` gives the case of each result and ``labels`` the case descriptions
-    (:data:`selfalign.classification.CASE_LABELS`).
+    (:data:`selfalign.analysis.classification.CASE_LABELS`).
     """
     from matplotlib.figure import Figure
 
@@ -234,7 +234,7 @@ def work_precision(fig, studies: list[dict]):
 
 
 def figure_accuracy_cost(results: list[dict]):
-    """The work-precision figure from accuracy results (:mod:`selfalign.accuracy` layout)."""
+    """The work-precision figure from accuracy results (:mod:`selfalign.analysis.accuracy` layout)."""
     from matplotlib.figure import Figure
 
     studies = []

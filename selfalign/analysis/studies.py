@@ -8,7 +8,7 @@
   three-phase profile it is compared with.
 * :func:`map_shard`, :func:`gather_map` — Figs. 10 and 11: f and the case of Table 1
   over a (y2'', y3'') grid from the closed-form steady state
-  (:mod:`selfalign.steady_state`), each point verified by simulation.
+  (:mod:`selfalign.analysis.steady_state`), each point verified by simulation.
 
 Steady state by simulation
 --------------------------
@@ -57,8 +57,8 @@ from dataclasses import dataclass, field, fields
 import numpy as np
 
 from .classification import decision_quantities
-from .friction import Uniform
-from .profiles import FourierProfile, PolynomialProfile, ThreePhaseProfile, three_phase_times
+from ..model.friction import Uniform
+from ..model.profiles import FourierProfile, PolynomialProfile, ThreePhaseProfile, three_phase_times
 from .steady_state import OBJECTIVE_SCALE, steady_state_grid
 
 #: Bracket width at which the simulated steady state has converged, relative to the velocity swing.
@@ -170,7 +170,7 @@ def velocity_swing(profile) -> float:
 
 def run_periods(profile, v0: float, periods: int = 1) -> tuple[float, float]:
     """(x'(periods dt), x(periods dt) - x(0)) from x'(0) = v0, exact solver, uniform surface."""
-    from .solvers.exact import ExactSolver
+    from ..solvers.exact import ExactSolver
 
     solver = ExactSolver(profile, Uniform(), 0.0, float(v0), record=False)
     displacement = 0.0
@@ -190,7 +190,7 @@ def exact_steady_state(profile, v0: float = 0.0, max_periods: int = 200_000,
     the time average of the second half of the run as vbar (eq. 10 as a limit), with
     ``cycle`` 0 and ``residual`` NaN.
     """
-    from .solvers.exact import ExactSolver
+    from ..solvers.exact import ExactSolver
 
     if aperiodic not in ("raise", "average"):
         raise ValueError(f"aperiodic must be 'raise' or 'average', got {aperiodic!r}")
@@ -228,7 +228,7 @@ def exact_steady_state(profile, v0: float = 0.0, max_periods: int = 200_000,
 
 def _moreau_period_map(profiles, steps_per_period: int, iteration: str):
     """Period map from batched Moreau time-stepping with ``steps_per_period`` steps (h = dt / N)."""
-    from .solvers.moreau import solve_batch
+    from ..solvers.moreau import solve_batch
 
     def period_map(index, v):
         sub = [profiles[i] for i in index.tolist()]
@@ -242,7 +242,7 @@ def _moreau_period_map(profiles, steps_per_period: int, iteration: str):
 
 def _three_phase_period_map(dt, dy, y2, y3):
     """Period map of three-phase profiles (flat feasible arrays) from the batched exact solver."""
-    from .solvers import batch
+    from ..solvers import batch
 
     breaks, accels = batch.three_phase_pieces(dt, dy, y2, y3)
 
@@ -621,8 +621,8 @@ def align_to(profile: FourierProfile, reference, samples: int = 4096) -> Fourier
 def steady_motion(profile, v0: float, periods: int = 3, samples_per_period: int = 400) -> dict:
     """Mass and table over ``periods`` periods from the steady state x'(0) = v0, x(0) = 0
     (exact solver): ``t``, ``v`` (x', relative), ``y`` (table), ``x_abs`` = x + y."""
-    from .scene import Record, Scene
-    from .simulate import simulate
+    from ..model.scene import Record, Scene
+    from ..solvers.driver import simulate
 
     scene = Scene(profile, x0=0.0, v0=float(v0), periods=int(periods), method="exact",
                   record=Record(series=("x", "v", "y"), samples_per_period=samples_per_period))

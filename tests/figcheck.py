@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .results import atomic_write
+from selfalign.io.hdf5 import atomic_write
 
 #: JSON key marking an encoded non-finite float ({"$float": "nan"}); strict JSON has no NaN.
 _FLOAT_KEY = "$float"

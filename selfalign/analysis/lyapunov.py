@@ -35,11 +35,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .friction import Uniform
-from .profiles import Profile, ThreePhaseProfile
-from .scene import Scene
-from .solvers import arcs as _arcs
-from .solvers.exact import ExactSolver
+from ..model.friction import Uniform
+from ..model.profiles import Profile, ThreePhaseProfile
+from ..model.scene import Scene
+from ..model import arcs as _arcs
+from ..solvers.exact import ExactSolver
 
 
 @dataclass(frozen=True)

@@ -1,7 +1,7 @@
 """Stopping in the high-friction zone: positioning accuracy and accumulation (Sect. 7).
 
 Entries (Sect. 7.1).  On the uniform surface the steady state of a three-phase
-profile is x_s(t) with x_s(0) = 0 and x_s'(0) = v0 (:mod:`selfalign.steady_state`),
+profile is x_s(t) with x_s(0) = 0 and x_s'(0) = v0 (:mod:`selfalign.analysis.steady_state`),
 and x_s(t + dt) = x_s(t) + vbar dt.  Every steady-state approach to the zone is
 x(t) = x_s(t) - s for some offset s; offsets differing by vbar dt give the same
 motion one period later, so the entries form a one-parameter family
@@ -44,10 +44,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from .classification import check_parameters
-from .errors import check_finite, check_positive
-from .friction import StopZone
-from .profiles import ThreePhaseProfile
-from .solvers.batch import Outcome, solve_batch, three_phase_pieces
+from ..model.errors import check_finite, check_positive
+from ..model.friction import StopZone
+from ..model.profiles import ThreePhaseProfile
+from ..solvers.batch import Outcome, solve_batch, three_phase_pieces
 from .steady_state import steady_state_grid
 from .stick_map import stick_map, stick_map_validity
 
@@ -444,7 +444,7 @@ def fig17_shard(y2, y3, rows: slice, *, dt: float, dy: float, w: float, c_mu: fl
     :func:`fig17_content` (``events`` counted over the shard) plus ``row_start``,
     ``row_stop``, ``row_step`` (the slice ``rows``).  Every setting is simulated on its own
     (batched, no coupling between members), so shards that cover the rows once
-    (:func:`selfalign.studies.shard_rows`, contiguous or interleaved) gather
+    (:func:`selfalign.analysis.studies.shard_rows`, contiguous or interleaved) gather
     (:func:`gather_fig17`) to the whole sweep bit for bit, for any number of shards.
     """
     y2, y3 = np.asarray(y2, dtype=float), np.asarray(y3, dtype=float)
@@ -465,7 +465,7 @@ def fig17_shard(y2, y3, rows: slice, *, dt: float, dy: float, w: float, c_mu: fl
 def gather_fig17(y2, y3, shards: list[dict]):
     """Datasets and attributes of ``results/accumulation/fig17.h5`` from the shards of
     :func:`fig17_shard`, each a dict with ``datasets`` and ``attrs`` (as
-    :func:`selfalign.results.read_h5` returns it).  Together the shards must cover every row
+    :func:`selfalign.io.hdf5.read_h5` returns it).  Together the shards must cover every row
     of ``y2`` exactly once, with the same setting; each row is put back in its place, and
     ``events`` is their sum."""
     y2, y3 = np.asarray(y2, dtype=float), np.asarray(y3, dtype=float)
@@ -520,10 +520,10 @@ def fig18_content(profile: ThreePhaseProfile, *, w: float, c_mu: float, x_mu: fl
     stuck at t = 0 just above / below the threshold x_c (:func:`stick_map_threshold`).
     Attributes: the profile, w, c_mu, x_mu, x_stick_min, x_threshold, contraction.
     """
-    from .scene import Record, Scene
-    from .simulate import simulate
+    from ..model.scene import Record, Scene
+    from ..solvers.driver import simulate
     from .stick_map import stick_map_contraction, stick_map_simulated, stick_map_threshold
-    from .trajectory import EventKind
+    from ..solvers.outcomes import EventKind
 
     zone = StopZone(x_mu=x_mu, w=w, c_mu=c_mu)
     kw = {"w": w, "c_mu": c_mu, "x_mu": x_mu}
@@ -559,8 +559,8 @@ def fig16_content(settings, *, dt: float, dy: float, w: float, c_mu: float, n_en
     ``entry_1`` with the exact solver's dense ``t``, ``x``, ``v`` of the two entries with
     the lowest and the highest first stick in the zone (attribute ``index``).
     """
-    from .scene import Record, Scene
-    from .simulate import simulate
+    from ..model.scene import Record, Scene
+    from ..solvers.driver import simulate
 
     groups = {}
     for y2, y3 in settings:

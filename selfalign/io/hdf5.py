@@ -100,7 +100,7 @@ def write_h5(path, datasets: dict, attrs: dict | None = None,
     attribute ``selfalign_version`` is added automatically and may not be
     passed in ``attrs``.
     """
-    from . import __version__  # here, not at the top: the package __init__ may import this module
+    from .. import __version__  # here, not at the top: the package __init__ may import this module
 
     attrs = dict(attrs or {})
     if VERSION_ATTR in attrs:

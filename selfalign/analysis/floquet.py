@@ -8,7 +8,7 @@ Floquet multipliers.  :func:`floquet` computes it by
 ``method="analytic"``
     the linearisation of the closed-form one-period map, eqs. (25)-(33), for every
     case of Table 1 including pure stick (case 5, which the paper leaves out); the
-    closed forms are in :mod:`selfalign.steady_state`.  Three-phase profile on a
+    closed forms are in :mod:`selfalign.analysis.steady_state`.  Three-phase profile on a
     uniform surface at t0 = 0 only.
 
 ``method="saltation"``
@@ -33,7 +33,7 @@ Floquet multipliers.  :func:`floquet` computes it by
     "Stability").  Hence the default eps = sqrt(h) for Moreau.
 
 The periodic motion is started from the closed-form steady state
-(:func:`selfalign.steady_state.steady_state`: x'(0) = v0) for a three-phase
+(:func:`selfalign.analysis.steady_state.steady_state`: x'(0) = v0) for a three-phase
 profile on a uniform surface at phase 0, and is otherwise found by simulating
 with the exact solver until the state at the period boundary repeats bit for bit
 ((x', mode) on a uniform surface, where the motion is invariant under shifts in
@@ -48,13 +48,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .friction import StopZone, Uniform
-from .profiles import Profile, ThreePhaseProfile
-from .scene import Scene
-from .simulate import resolve_options
-from .solvers import arcs as _arcs
-from .solvers.exact import ExactSolver
-from .trajectory import EventKind
+from ..model.friction import StopZone, Uniform
+from ..model.profiles import Profile, ThreePhaseProfile
+from ..model.scene import Scene
+from ..solvers.driver import resolve_options
+from ..model import arcs as _arcs
+from ..solvers.exact import ExactSolver
+from ..solvers.outcomes import EventKind
 
 NUMERIC_SOLVERS = ("exact", "moreau")
 #: Options of each method, with their defaults.  ``max_periods`` bounds the search for
@@ -293,7 +293,7 @@ def _period_map_exact(motion, x0, v0):
 
 
 def _period_map_moreau(motion, x0, v0, h):
-    from .solvers.moreau import solve_batch
+    from ..solvers.moreau import solve_batch
 
     res = solve_batch(motion.profile, motion.surface, np.asarray(x0), np.asarray(v0), motion.periods,
                       h=h, phase=motion.phase)
@@ -302,7 +302,7 @@ def _period_map_moreau(motion, x0, v0, h):
 
 def moreau_step(dt: float, h) -> float:
     """The Moreau step actually used for a requested ``h`` (dt / ceil(dt / h); None: dt / 1000)."""
-    from .solvers.moreau import steps_per_period
+    from ..solvers.moreau import steps_per_period
 
     return steps_per_period(float(dt), h)[1]
 
@@ -438,7 +438,7 @@ def stability_result(scene: Scene, moreau_steps=(100, 1000, 10000), moreau_eps=(
 def _moreau_batch(profiles, v0s, steps: int):
     """Numeric (Moreau) monodromies of many three-phase steady states (uniform surface,
     start at t = 0) in one batched run, eps = sqrt(h) as in :func:`floquet`."""
-    from .solvers.moreau import solve_batch
+    from ..solvers.moreau import solve_batch
 
     h = np.array([p.dt / steps for p in profiles])
     eps = np.sqrt(h)

@@ -1,9 +1,9 @@
 """Plot functions and figure builders for the stopping figures (Figs. 14-18, Sect. 7).
 
-As in :mod:`selfalign.plots`, plot functions draw the data they are given onto
+As in :mod:`selfalign.plots.profile`, plot functions draw the data they are given onto
 matplotlib Axes (or a Figure for multi-panel plots) and return the figure;
-the builders ``figure_*`` take results in :func:`selfalign.results.read_h5`
-layout (written by :mod:`selfalign.stopping`'s ``fig*_content``), pick what is
+the builders ``figure_*`` take results in :func:`selfalign.io.hdf5.read_h5`
+layout (written by :mod:`selfalign.analysis.positioning`'s ``fig*_content``), pick what is
 shown and call them.  Nothing here computes physics or writes files; only the
 object-oriented matplotlib API is used (headless).
 """

@@ -13,9 +13,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .profiles import ThreePhaseProfile
-from .results import atomic_path
-from .scene import Scene
+from ..model.profiles import ThreePhaseProfile
+from ..io.hdf5 import atomic_path
+from ..model.scene import Scene
 
 #: Resolution of figures written by :func:`save_figure` unless the workflow config says otherwise.
 DEFAULT_DPI = 150
@@ -66,7 +66,7 @@ def profile_samples(scene: Scene) -> tuple[dict, dict]:
     is the profile kind), the three-phase profile's zero-velocity times
     ``t_top``, ``t_bottom`` and feasibility ``q``, ``max_abs_acceleration``,
     the sampling (``periods``, ``samples_per_period``) and ``scene``, the
-    scene as YAML text.  :func:`selfalign.results.write_h5` adds the
+    scene as YAML text.  :func:`selfalign.io.hdf5.write_h5` adds the
     package version.
     """
     import yaml
@@ -97,7 +97,7 @@ def figure_07(result: dict):
     """Fig. 7, the three-phase profile sketch, from a trajectory result (:func:`read_h5` layout)."""
     from matplotlib.figure import Figure
 
-    from .plots import profile_sketch
+    from ..plots.profile import profile_sketch
 
     d, a = result["datasets"], result["attrs"]
     if a.get("kind") != "three_phase":

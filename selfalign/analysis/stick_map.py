@@ -30,8 +30,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .friction import StopZone
-from .profiles import ThreePhaseProfile
+from ..model.friction import StopZone
+from ..model.profiles import ThreePhaseProfile
 
 
 @dataclass(frozen=True)
@@ -168,7 +168,7 @@ def stick_map_simulated(x_n, profile: ThreePhaseProfile, *, w: float, c_mu: floa
     x_n = _positions(x_n)
     StopZone(x_mu=x_mu, w=w, c_mu=c_mu)  # validates the zone before any run
     if method == "batch":
-        from .solvers.batch import Outcome, Reason, profile_pieces, solve_batch
+        from ..solvers.batch import Outcome, Reason, profile_pieces, solve_batch
 
         breaks, accels = profile_pieces(profile)
         res = solve_batch(breaks, accels, x_n.ravel(), 0.0, 0.0, x_mu=x_mu, w=w, c_mu=c_mu,
@@ -176,9 +176,9 @@ def stick_map_simulated(x_n, profile: ThreePhaseProfile, *, w: float, c_mu: floa
         found = (res.status == Outcome.REST) | (res.reason == Reason.STICK)
         return np.where(found, res.x_end, np.nan).reshape(x_n.shape)
 
-    from .scene import Record, Scene
-    from .simulate import simulate
-    from .trajectory import EventKind, Status
+    from ..model.scene import Record, Scene
+    from ..solvers.driver import simulate
+    from ..solvers.outcomes import EventKind, Status
 
     out = np.full(x_n.size, np.nan)
     zone = StopZone(x_mu=x_mu, w=w, c_mu=c_mu)

@@ -10,7 +10,7 @@ walked to draw the flow chart (:meth:`DecisionTree.nodes`,
 Cases: 0 non-physical profile, 1 stick-slip with x' >= 0, 2 stick-slip with
 x' <= 0, 3 general stick-slip, 4 slip-slip, 5 pure stick.
 
-Why these three tests suffice (derivations in :mod:`selfalign.steady_state`):
+Why these three tests suffice (derivations in :mod:`selfalign.analysis.steady_state`):
 stick at v = 0 is possible in a phase iff |y''| <= 1 (ties stick), so with
 y2 <= 1 and y3 <= 1 the mass never leaves v = 0 (case 5); with only y2 > 1
 it can only slip forward (case 1), with only y3 > 1 only backward (case 2).
@@ -32,7 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .profiles import ThreePhaseProfile, three_phase_feasibility, three_phase_times
+from ..model.profiles import ThreePhaseProfile, three_phase_feasibility, three_phase_times
 
 CASE_LABELS = {
     0: "non-physical profile",
@@ -186,7 +186,7 @@ def check_parameters(dt, dy, y2, y3) -> tuple[np.ndarray, ...]:
 def decision_quantities(dt, dy, y2, y3) -> dict[str, np.ndarray]:
     """Quantities the tree tests, broadcast over the inputs (NaN where infeasible).
 
-    ``q``: feasibility number of :func:`selfalign.profiles.three_phase_feasibility`;
+    ``q``: feasibility number of :func:`selfalign.model.profiles.three_phase_feasibility`;
     ``t1``, ``t2``: switch times of the profile; ``swing``: u = y2 (t2 - t1),
     the table velocity swing (eq. 63); ``v_back``: backward speed -x'(t3)
     reached by a mass at rest at t1 (meaningful for y2, y3 > 1):

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from importlib import import_module
 
-from .scene import Scene
-from .trajectory import Trajectory
+from ..model.scene import Scene
+from .outcomes import Trajectory
 
 #: Options each method accepts, with their defaults.
 DEFAULT_OPTIONS = {

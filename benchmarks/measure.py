@@ -20,10 +20,10 @@ from pathlib import Path
 
 import numpy as np
 
-from .friction import StopZone, Uniform
-from .profiles import ThreePhaseProfile
-from .scene import Scene
-from .simulate import simulate
+from selfalign.model.friction import StopZone, Uniform
+from selfalign.model.profiles import ThreePhaseProfile
+from selfalign.model.scene import Scene
+from selfalign.solvers.driver import simulate
 
 #: The Fig. 18 profile (case 1, stick-slip), used by every benchmark.
 PROFILE = ThreePhaseProfile(1.05, 0.084, 2.2, 0.9)
@@ -93,7 +93,7 @@ def exact_vs_moreau(periods: int = 50, tolerances=(1e-2, 1e-3, 1e-4),
 
 def single_trajectory(periods: int = 20_000, repeat: int = 3) -> list[dict]:
     """Events per second of the exact solver's own event loop (no recording, no fast-forward)."""
-    from .solvers.exact import ExactSolver
+    from selfalign.solvers.exact import ExactSolver
 
     cases = {"uniform surface (quadratic arcs)": Uniform(), "transition zone (harmonic arcs)": WIDE_ZONE}
     rows = []
@@ -118,8 +118,8 @@ def batched_sweep(n: int = 64, periods: int = 20, repeat: int = 2) -> list[dict]
     allow: :data:`FLOPS_PER_EVENT` divided into (a) the measured numpy elementwise rate at
     this batch size and (b) the measured single-core floating-point peak.
     """
-    from .solvers import moreau
-    from .solvers.batch import solve_batch, three_phase_pieces
+    from selfalign.solvers import moreau
+    from selfalign.solvers.batch import solve_batch, three_phase_pieces
 
     y2, y3 = _sweep_grid(n)
     breaks, accels = three_phase_pieces(PROFILE.dt, PROFILE.dy, y2, y3)

@@ -1,10 +1,10 @@
 """Simulation results as HDF5 content and rerun series, and back.
 
-The simulation stage stores one :class:`~selfalign.trajectory.Trajectory` per
+The simulation stage stores one :class:`~selfalign.solvers.outcomes.Trajectory` per
 scene in ``results/simulation/<scene>.h5`` through
-:func:`selfalign.results.write_h5`; :func:`trajectory_content` builds what is
+:func:`selfalign.io.hdf5.write_h5`; :func:`trajectory_content` builds what is
 written and :func:`trajectory_from_result` rebuilds the Trajectory from
-:func:`selfalign.results.read_h5`'s output, so that later stages and figures
+:func:`selfalign.io.hdf5.read_h5`'s output, so that later stages and figures
 work on the same object a direct ``simulate`` call returns.
 
 Layout (README "Results"):
@@ -21,15 +21,16 @@ Layout (README "Results"):
 * group ``events`` (only if the scene recorded the event log): the columns of
   the structured event array (``kind``, ``period``, ``tau``, ``x``, ``v``,
   ``mode``) as datasets, plus ``t`` = period dt + tau, and the attribute
-  ``kinds`` mapping each :class:`~selfalign.trajectory.EventKind` name to its code.
+  ``kinds`` mapping each :class:`~selfalign.solvers.outcomes.EventKind` name to its code.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from .scene import Scene, scene_from_dict
-from .trajectory import EVENT_DTYPE, EventKind, Status, Trajectory
+from ..model.scene import Scene
+from ..io.scene_files import scene_from_dict
+from ..solvers.outcomes import EVENT_DTYPE, EventKind, Status, Trajectory
 
 #: Rerun entity path of each recordable series: one plot per quantity kind.
 RERUN_ENTITIES = {

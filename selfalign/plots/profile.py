@@ -3,7 +3,7 @@
 Each function draws data it is given onto a matplotlib ``Axes`` (or a
 ``Figure`` for multi-panel plots) and returns the figure.  They compute no
 physics and write no files: the workflow's compute rules produce the data,
-:func:`selfalign.pipeline.save_figure` writes the image, so restyling a
+:func:`selfalign.stages.common.save_figure` writes the image, so restyling a
 figure never reruns a simulation.  Only the object-oriented matplotlib API
 is used (no pyplot state), so they run headless.
 """

@@ -47,8 +47,8 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from .scene import Record, Scene
-from .simulate import simulate
+from ..model.scene import Record, Scene
+from ..solvers.driver import simulate
 
 #: Double-precision unit roundoff scale used for the rounding levels.
 _EPS = np.finfo(float).eps

@@ -8,7 +8,7 @@ eq. 63).  In each phase v is linear: forward slip (v > 0) has slope
 iff |y''| <= 1 (a tie sticks), else it slips in the direction -sign(y'').
 The steady state is unique (Sect. 6.2), so it suffices to exhibit one
 periodic solution per case; the case itself is decided a priori by
-:data:`selfalign.classification.DECISION_TREE`.  A useful identity: while v
+:data:`selfalign.analysis.classification.DECISION_TREE`.  A useful identity: while v
 keeps one sign from rest at t_a, v(t) = -(y'(t) - y'(t_a)) -+ (t - t_a), and
 y' returns to its value after a full period.  Scaling t -> l t, x -> l^2 x
 leaves the model invariant, so vbar(l dt, l^2 dy) = l vbar(dt, dy): vbar/dt

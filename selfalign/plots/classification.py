@@ -1,11 +1,11 @@
 """Plot functions for the steady-state studies: Figs. 4, 5, 6, 8, 10 and 11.
 
-As in :mod:`selfalign.plots`: each function draws data it is given onto a
+As in :mod:`selfalign.plots.profile`: each function draws data it is given onto a
 matplotlib ``Figure`` and returns it; no physics, no file writes, only the
 object-oriented API.  ``figure_NN(result)`` builds figure NN from a result file
-read with :func:`selfalign.results.read_h5` (the layouts are in the README,
+read with :func:`selfalign.io.hdf5.read_h5` (the layouts are in the README,
 "Steady state and classification").  Fig. 8 is drawn by walking the decision
-tree of :mod:`selfalign.classification` — the tree that classifies the maps —
+tree of :mod:`selfalign.analysis.classification` — the tree that classifies the maps —
 so the flow chart cannot disagree with the code.
 """
 
@@ -15,7 +15,7 @@ import textwrap
 
 import numpy as np
 
-from .classification import CASE_LABELS, DECISION_TREE, Decision
+from ..analysis.classification import CASE_LABELS, DECISION_TREE, Decision
 
 #: One colour per case of Table 1, shared by Figs. 8, 10 and 11 (case 0: no profile).
 CASE_COLORS = {0: "0.82", 1: "tab:green", 2: "tab:red", 3: "tab:blue", 4: "tab:orange", 5: "tab:purple"}

@@ -3,7 +3,7 @@
 A recording is a browsable companion of an HDF5 result: open it with
 ``rerun file.rrd`` to scrub through position, velocity, friction force and
 mode of a run.  Nothing here starts a viewer; files are written through
-:func:`selfalign.results.atomic_path`, so a failed write leaves nothing.
+:func:`selfalign.io.hdf5.atomic_path`, so a failed write leaves nothing.
 
 rerun is imported inside the functions because it is heavy and only needed
 when a scene asks for a recording.
@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .results import atomic_path
+from .hdf5 import atomic_path
 
 #: Series names: entity-path segments rerun needs no escaping for, joined by "/".
 _NAME = re.compile(r"[A-Za-z0-9_.\-]+(/[A-Za-z0-9_.\-]+)*")

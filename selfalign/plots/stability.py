@@ -1,9 +1,9 @@
 """Plots of the stability and convergence stages (Sect. 6): Fig. 13.
 
-Like :mod:`selfalign.plots`, the functions draw given data with the
+Like :mod:`selfalign.plots.profile`, the functions draw given data with the
 object-oriented matplotlib API and compute no physics; :func:`figure_13`
-builds the figure from a convergence result (:func:`selfalign.results.read_h5`
-layout) and :func:`selfalign.pipeline.save_figure` writes it.
+builds the figure from a convergence result (:func:`selfalign.io.hdf5.read_h5`
+layout) and :func:`selfalign.stages.common.save_figure` writes it.
 """
 
 from __future__ import annotations
@@ -47,7 +47,7 @@ def convergence_panels(fig, t, v1, v2, V, starts, ends, equal, labels=("$v_1$", 
 
 
 def figure_13(result: dict):
-    """Fig. 13 from a convergence result (:func:`selfalign.lyapunov.convergence_result`)."""
+    """Fig. 13 from a convergence result (:func:`selfalign.analysis.lyapunov.convergence_result`)."""
     from matplotlib.figure import Figure
 
     d, a = result["datasets"], result["attrs"]
