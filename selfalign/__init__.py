@@ -1,29 +1,41 @@
 """selfalign: vibrational self-alignment of a rigid object exploiting friction.
 
 Reference implementation of Hunnekens, Fey, Shukla & Nijmeijer, Nonlinear
-Dynamics 65:109-129 (2011).  Importing it loads numpy and the package's own
-modules only; scipy, h5py, matplotlib and rerun load where they are used.
+Dynamics 65:109-129 (2011).  The public names below load their module on first
+use, so ``import selfalign`` loads nothing but this file; numba, scipy, h5py,
+matplotlib and rerun load where they are used.
 """
 
-from .model.errors import NonPhysicalProfile, SceneError
-from .model.friction import StopZone, Uniform
-from .model.profiles import FourierProfile, PiecewiseConstantProfile, PolynomialProfile, ThreePhaseProfile
-from .model.scene import Record, Scene
-from .io.scene_files import load_scene, scene_from_dict
-from .solvers.driver import simulate
-from .analysis.classification import classify
-from .analysis.floquet import floquet
-from .analysis.lyapunov import lyapunov_trace
-from .analysis.steady_state import SteadyState, steady_state
-from .analysis.stick_map import stick_map
-from .analysis.positioning import positioning
-from .solvers.outcomes import EventKind, Status, Trajectory
-from .model.units import SIScale
+from __future__ import annotations
+
+from importlib import import_module
+
+#: Public name -> module that defines it.
+_EXPORTS = {
+    "NonPhysicalProfile": "model.errors", "SceneError": "model.errors",
+    "StopZone": "model.friction", "Uniform": "model.friction",
+    "FourierProfile": "model.profiles", "PiecewiseConstantProfile": "model.profiles",
+    "PolynomialProfile": "model.profiles", "ThreePhaseProfile": "model.profiles",
+    "Record": "model.scene", "Scene": "model.scene", "SIScale": "model.units",
+    "load_scene": "io.scene_files", "scene_from_dict": "io.scene_files",
+    "simulate": "solvers.driver", "simulate_batch": "solvers.driver",
+    "EventKind": "solvers.outcomes", "Reason": "solvers.outcomes", "Status": "solvers.outcomes",
+    "BatchResult": "solvers.results", "Trajectory": "solvers.results",
+    "classify": "analysis.classification", "floquet": "analysis.floquet", "lyapunov_trace": "analysis.lyapunov",
+    "SteadyState": "analysis.steady_state", "steady_state": "analysis.steady_state",
+    "stick_map": "analysis.stick_map", "positioning": "analysis.positioning",
+}
+
+__all__ = sorted(_EXPORTS) + ["__version__"]
 
 
 def __getattr__(name):
-    # importlib.metadata costs a third of the import time; look the version up on first use.
+    if name in _EXPORTS:
+        value = getattr(import_module(f".{_EXPORTS[name]}", __name__), name)
+        globals()[name] = value
+        return value
     if name == "__version__":
+        # importlib.metadata costs a third of the import time; look the version up on first use.
         from importlib.metadata import PackageNotFoundError, version
 
         try:
@@ -32,8 +44,6 @@ def __getattr__(name):
             return "0.0.0+unknown"
     raise AttributeError(f"module 'selfalign' has no attribute {name!r}")
 
-__all__ = [
-    "FourierProfile", "NonPhysicalProfile", "PiecewiseConstantProfile", "PolynomialProfile",
-    "Record", "SIScale", "floquet", "lyapunov_trace", "positioning", "stick_map", "Scene", "SceneError", "SteadyState", "classify", "steady_state", "Status", "StopZone", "EventKind", "ThreePhaseProfile",
-    "Trajectory", "Uniform", "load_scene", "scene_from_dict", "simulate", "__version__",
-]
+
+def __dir__():
+    return __all__

@@ -1,6 +1,9 @@
 """The exact event-driven solver (method="exact") against the paper's closed forms."""
 
 import math
+import os
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -8,7 +11,6 @@ from scipy.integrate import solve_ivp
 
 import selfalign as sa
 from selfalign.model import arcs
-from selfalign.solvers.exact import ExactSolver, iterate_events
 
 # Sect. 5.1 / 7.3 settings: y2'' = 2.2, y3'' = 0.9, dt = 1.05, dy = 0.084; zone w = 0.05, c_mu = 2.5.
 CASE1 = sa.ThreePhaseProfile(1.05, 0.084, 2.2, 0.9)
@@ -53,15 +55,21 @@ def test_case1_steady_state_matches_closed_form():
     assert (traj.period_end, traj.tau_end) == (1, 0.0)
 
 
+def recorded(profile, surface=None, periods=1, **start):
+    """A run of ``periods`` periods with its arcs and event log."""
+    return sa.simulate(sa.Scene(profile, surface or sa.Uniform(), periods=periods,
+                                record=sa.Record(events=True, arcs=True), **start))
+
+
 def test_case1_one_period_returns_start_velocity_for_any_start_velocity():
     """Sect. 6.1, eqs. (26)-(27): in case 1 a start velocity 0 <= x0' < t1 is lost in the y'' = 0
     piece (x'' = -1), so x'(t3) = 0 and x(t3) = x0 + x0'^2/2 + c1; tolerance 1e-12."""
     p = CASE1
-    base = ExactSolver(p).step_period()
+    base = recorded(p)
     for v0 in (0.0, 0.05, 0.9 * p.t1):
-        step = ExactSolver(p, v0=v0).step_period()
-        assert step.v == 0.0 and step.mode == 0
-        assert abs(step.x - (v0 * v0 / 2.0 + base.x)) <= 1e-12
+        step = recorded(p, v0=v0)
+        assert step.v_end == 0.0 and step.arcs["mode"][-1] == 0
+        assert abs(step.x_end - (v0 * v0 / 2.0 + base.x_end)) <= 1e-12
 
 
 # ------------------------------------------------------------------------------------------
@@ -156,21 +164,17 @@ def test_solver_zone_arcs_follow_eqs_43_44_and_47():
     """Sect. 7.3: in the accumulation scene every harmonic arc of the solver ends in the state
     given by eqs. (43)-(44) from its start, and arcs ending in stick last as long as eq. (47)
     (d1 >= 0 there) says; tolerance 1e-12."""
-    solver = ExactSolver(CASE1, sa.StopZone(X_MU, W, C_MU))
+    traj = recorded(CASE1, sa.StopZone(X_MU, W, C_MU), periods=12)
+    ends = {(int(e["period"]), float(e["tau"])): e for e in traj.events}
     checked = 0
-    for _ in range(12):
-        step = solver.step_period()
-        ends = {(e.period, e.tau): e for e in step.events}
-        for arc in step.arcs:
-            if arc.kind != arcs.HARMONIC:
-                continue
-            x_ref, v_ref, d1, d2 = _paper_harmonic(arc.x, arc.v, arc.table_acc, arc.duration)
-            end = ends.get((arc.period, arc.tau + arc.duration))
-            if end is not None and end.kind == sa.EventKind.STICK:
-                assert d1 >= 0.0
-                assert abs(arc.duration - math.asin(d2 / math.hypot(d1, d2)) / arc.omega) <= 1e-12
-                assert abs(end.x - x_ref) <= 1e-12 and abs(v_ref) <= 1e-12
-                checked += 1
+    for arc in traj.arcs[traj.arcs["kind"] == arcs.HARMONIC]:
+        x_ref, v_ref, d1, d2 = _paper_harmonic(arc["x"], arc["v"], arc["table_acc"], arc["duration"])
+        end = ends.get((int(arc["period"]), float(arc["tau"] + arc["duration"])))
+        if end is not None and end["kind"] == sa.EventKind.STICK:
+            assert d1 >= 0.0
+            assert abs(arc["duration"] - math.asin(d2 / math.hypot(d1, d2)) / arc["omega"]) <= 1e-12
+            assert abs(end["x"] - x_ref) <= 1e-12 and abs(v_ref) <= 1e-12
+            checked += 1
     assert checked >= 10
 
 
@@ -215,17 +219,16 @@ def test_solver_hyperbolic_arcs_match_ivp_of_the_model():
     model's own mu_bar(x), ends where the next arc starts (1e-10); the ZONE event lies exactly
     on x_mu."""
     p, zone = sa.ThreePhaseProfile(1.0, 0.084, 2.3, 1.3), sa.StopZone(X_MU, W, C_MU)
-    solver = ExactSolver(p, zone, x0=X_MU + 0.002, phase=p.t2 / p.dt)
-    step = solver.step_period()
-    hyper = [i for i, a in enumerate(step.arcs) if a.kind == arcs.HYPERBOLIC]
-    assert hyper
+    step = recorded(p, zone, x0=X_MU + 0.002, phase=p.t2 / p.dt)
+    hyper = np.flatnonzero(step.arcs["kind"] == arcs.HYPERBOLIC)
+    assert hyper.size
     for i in hyper:
         arc, nxt = step.arcs[i], step.arcs[i + 1]
-        sol = solve_ivp(lambda t, y: [y[1], -arc.table_acc + zone.coefficient(y[0])], (0.0, arc.duration),
-                        [arc.x, arc.v], method="DOP853", rtol=1e-12, atol=1e-15)
-        assert abs(sol.y[0, -1] - nxt.x) <= 1e-10 and abs(sol.y[1, -1] - nxt.v) <= 1e-10
-    zone_events = [e for e in step.events if e.kind == sa.EventKind.ZONE]
-    assert zone_events and zone_events[0].x == X_MU
+        sol = solve_ivp(lambda t, y: [y[1], -arc["table_acc"] + zone.coefficient(y[0])], (0.0, arc["duration"]),
+                        [arc["x"], arc["v"]], method="DOP853", rtol=1e-12, atol=1e-15)
+        assert abs(sol.y[0, -1] - nxt["x"]) <= 1e-10 and abs(sol.y[1, -1] - nxt["v"]) <= 1e-10
+    zone_events = step.events[step.events["kind"] == sa.EventKind.ZONE]
+    assert zone_events.size and zone_events[0]["x"] == X_MU
 
 
 def test_crossing_and_zero_velocity_times_keep_relative_accuracy():
@@ -324,10 +327,8 @@ def test_never_stops_periodic_motion_without_progress():
     traj = run(p, zone, until="rest")
     assert traj.status is sa.Status.NEVER_STOPS, traj.message
     assert traj.info["cycle_periods"] == 2 and traj.info["net_advance"] == 0.0
-    solver = ExactSolver(p, zone, x0=traj.x_end, v0=traj.v_end)
-    solver.step_period()
-    again = solver.step_period()
-    assert abs(again.x - traj.x_end) <= 1e-12 and abs(again.v - traj.v_end) <= 1e-12
+    again = run(p, zone, x0=traj.x_end, v0=traj.v_end, periods=2)
+    assert abs(again.x_end - traj.x_end) <= 1e-12 and abs(again.v_end - traj.v_end) <= 1e-12
 
 
 def test_never_stops_on_uniform_surface_reports_advance():
@@ -335,7 +336,7 @@ def test_never_stops_on_uniform_surface_reports_advance():
     net advance vbar dt = x(t_{x'=0}) (case 1, eq. 20), never coming to rest."""
     traj = run(CASE1, until="rest")
     assert traj.status is sa.Status.NEVER_STOPS
-    assert traj.info["net_advance"] == ExactSolver(CASE1).step_period().advance > 0.0
+    assert traj.info["net_advance"] == recorded(CASE1).x_end > 0.0
 
 
 def test_max_events_gives_error_not_nan():
@@ -346,13 +347,22 @@ def test_max_events_gives_error_not_nan():
     assert traj.stats["events"] == 10 and math.isfinite(traj.x_end) and math.isfinite(traj.v_end)
 
 
-def test_stalled_event_loop_is_an_error(monkeypatch):
+def test_stalled_event_loop_is_an_error():
     """DESIGN "never hang": should zero-duration events ever repeat without changing the mode (a
     broken tie rule, injected here as a zero-velocity time of 0 for every arc), the run ends
-    with ERROR after 100 such events instead of spinning until max_events."""
-    monkeypatch.setattr(arcs, "zero_velocity_time", lambda *args: 0.0)
-    traj = run(CASE1, sa.StopZone(X_MU, W, C_MU), x0=X_MU + 0.001, periods=10)
-    assert traj.status is sa.Status.ERROR and "stalled" in traj.message and traj.stats["events"] < 200
+    with ERROR after 100 such events instead of spinning until max_events.  The tie rules make
+    this impossible, so the breakage is injected into the kernel run uncompiled
+    (NUMBA_DISABLE_JIT=1: the same source as plain Python, where a model formula can be
+    replaced), in a separate process."""
+    code = ("import selfalign as sa\n"
+            "from selfalign.model import arcs\n"
+            "arcs.zero_velocity_time = lambda *args: 0.0\n"
+            f"traj = sa.simulate(sa.Scene(sa.ThreePhaseProfile(1.05, 0.084, 2.2, 0.9), sa.StopZone({X_MU}, {W}, "
+            f"{C_MU}), x0={X_MU + 0.001}, periods=10))\n"
+            "print(traj.status.value, traj.stats['events'], traj.message)\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
+                         env={**os.environ, "NUMBA_DISABLE_JIT": "1"}).stdout.split(maxsplit=2)
+    assert out[0] == "error" and int(out[1]) < 200 and "stalled" in out[2], out
 
 
 def test_bad_options_and_fourier_stop_zone_rejected():
@@ -362,7 +372,7 @@ def test_bad_options_and_fourier_stop_zone_rejected():
     with pytest.raises(ValueError, match="max_events"):
         run(CASE1, periods=1, options={"max_events": 0})
     fourier = sa.FourierProfile(1.0, [0.02, 0.0], [0.0, 0.006])
-    with pytest.raises(ValueError, match="Uniform surface"):
+    with pytest.raises(ValueError, match="cannot simulate a Fourier profile on a stop zone"):
         run(fourier, sa.StopZone(1.0, W, C_MU), periods=1)
 
 
@@ -441,16 +451,6 @@ def test_deterministic():
     assert np.array_equal(a.events, b.events)
 
 
-def test_iterate_events_matches_solve_event_log():
-    """The low-level generator and solve() share one event logic: same events, same floats."""
-    zone = sa.StopZone(X_MU, W, C_MU)
-    traj = run(CASE1, zone, periods=5, record=sa.Record(events=True))
-    low = list(iterate_events(CASE1, zone, periods=5))
-    assert len(low) == len(traj.events)
-    for e, row in zip(low, traj.events):
-        assert (int(e.kind), e.period, e.tau, e.x, e.v, e.mode_after) == tuple(row)
-
-
 # ------------------------------------------------------------------------------------------
 # Smooth (Fourier) profiles on the uniform surface
 # ------------------------------------------------------------------------------------------
@@ -462,22 +462,20 @@ def test_fourier_arcs_and_events_match_ivp():
     """Sect. 4.4.2 profiles, uniform friction: each slip arc x' = v0 - s (t - t0) - (y'(t) - y'(t0))
     ends where DOP853 (rtol 1e-12) integration of x'' = -y'' - Sign(x') from its start ends
     (1e-10); slip starts where |y''| = 1 (1e-12); stick events have |y''| <= 1."""
-    solver = ExactSolver(FOURIER)
-    for _ in range(3):
-        step = solver.step_period()
-        for arc, nxt in zip(step.arcs, step.arcs[1:]):
-            if arc.kind != arcs.SMOOTH:
-                continue
-            t0 = arc.period * FOURIER.dt + arc.tau
-            sol = solve_ivp(lambda t, y: [y[1], -FOURIER.acceleration(t) - arc.mode], (t0, t0 + arc.duration),
-                            [arc.x, arc.v], method="DOP853", rtol=1e-12, atol=1e-15)
-            assert abs(sol.y[0, -1] - nxt.x) <= 1e-10 and abs(sol.y[1, -1] - nxt.v) <= 1e-10
-        for e in step.events:
-            ydd = float(FOURIER.acceleration(e.tau))
-            if e.kind == sa.EventKind.SLIP:
-                assert abs(abs(ydd) - 1.0) <= 1e-12 and e.mode_after == -np.sign(ydd)
-            elif e.kind == sa.EventKind.STICK:
-                assert abs(ydd) <= 1.0 and e.v == 0.0
+    step = recorded(FOURIER, periods=3)
+    for arc, nxt in zip(step.arcs, step.arcs[1:]):
+        if arc["kind"] != arcs.SMOOTH:
+            continue
+        t0 = arc["period"] * FOURIER.dt + arc["tau"]
+        sol = solve_ivp(lambda t, y: [y[1], -FOURIER.acceleration(t) - arc["mode"]], (t0, t0 + arc["duration"]),
+                        [arc["x"], arc["v"]], method="DOP853", rtol=1e-12, atol=1e-15)
+        assert abs(sol.y[0, -1] - nxt["x"]) <= 1e-10 and abs(sol.y[1, -1] - nxt["v"]) <= 1e-10
+    for e in step.events:
+        ydd = float(FOURIER.acceleration(e["tau"]))
+        if e["kind"] == sa.EventKind.SLIP:
+            assert abs(abs(ydd) - 1.0) <= 1e-12 and e["mode"] == -np.sign(ydd)
+        elif e["kind"] == sa.EventKind.STICK:
+            assert abs(ydd) <= 1.0 and e["v"] == 0.0
 
 
 def test_fourier_long_run_fast_forwards_to_steady_advance():

@@ -18,7 +18,7 @@ from selfalign.io.recording import read_recording, write_recording
 from selfalign.io.hdf5 import read_h5, write_h5
 from selfalign.stages.simulation import (RERUN_ENTITIES, event_datasets, rerun_series, scene_from_result,
                                           trajectory_content, trajectory_from_result)
-from selfalign.solvers.outcomes import EVENT_DTYPE
+from selfalign.solvers.records import EVENT_DTYPE
 
 
 def round_trip(traj, scene, tmp_path):

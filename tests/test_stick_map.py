@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from selfalign import StopZone, ThreePhaseProfile
-from selfalign.solvers.batch import Outcome, profile_pieces, solve_batch
+from selfalign import Status, simulate_batch
 from selfalign.analysis.stick_map import (
     stick_map,
     stick_map_constants,
@@ -113,10 +113,9 @@ def test_sufficient_condition_for_the_map():
         starts = np.linspace(zone.x_mu, xs, 31)[:-1]
         if holds:
             assert stick_map_validity(starts, profile, **ZONE).valid[1:].all()
-        breaks, accels = profile_pieces(profile)
-        res = solve_batch(breaks, accels, starts, 0.0, 0.0, x_mu=zone.x_mu, w=zone.w, c_mu=zone.c_mu)
-        acc = res.status == Outcome.ACCUMULATION
-        assert np.all((res.status == Outcome.ACCUMULATION) | (res.status == Outcome.REST))
+        res = simulate_batch(profile, starts, surface=zone)
+        acc = np.array([s is Status.ACCUMULATION for s in res.statuses()])
+        assert all(s in (Status.ACCUMULATION, Status.REST) for s in res.statuses())
         assert bool(acc.all()) is holds
         np.testing.assert_array_equal(res.x_end[acc], xs)
         assert np.all(res.x_end[~acc] > xs)

@@ -5,7 +5,10 @@ import numpy as np
 import pytest
 
 from selfalign import EventKind, Record, Scene, ThreePhaseProfile, simulate
-from selfalign.solvers.batch import Outcome, Reason, profile_pieces, solve_batch
+from selfalign import Reason, simulate_batch
+from selfalign.analysis.positioning import ACCUMULATE, NEVER_STOPS, REST
+
+HORIZON = 0  # status code of an undecided entry (list(selfalign.Status).index(Status.HORIZON))
 from selfalign.analysis.stick_map import stick_map
 from selfalign.analysis.positioning import accumulation_speed, positioning, positioning_grid
 
@@ -54,11 +57,11 @@ def test_accumulating_entries_approach_x_stick_min():
                               record=Record(events=True)), method="exact")
         sticks = traj.events[traj.events["kind"] == EventKind.STICK]["x"]
         sticks = sticks[sticks >= pos.x_mu]
-        if pos.status[i] == Outcome.ACCUMULATION:
+        if pos.status[i] == ACCUMULATE:
             assert np.all(np.diff(sticks) > 0) and np.all(sticks <= pos.x_stick_min + 1e-15)
             assert traj.x_end == pytest.approx(pos.x_stick_min, abs=1e-12)
         else:
-            assert pos.status[i] == Outcome.REST and traj.x_end > pos.x_stick_min
+            assert pos.status[i] == REST and traj.x_end > pos.x_stick_min
             assert traj.x_end == pytest.approx(pos.x_end[i], abs=1e-15)
 
 
@@ -86,8 +89,7 @@ def test_result_independent_of_entry_sampling_start():
     by less than the largest jump between neighbouring samples (sampling resolution)."""
     prof = profile(1.8, 1.1)
     base = positioning(prof, w=W, c_mu=C_MU, n_entries=64, offset=0.5)
-    breaks, accels = profile_pieces(prof)
-    earlier = solve_batch(breaks, accels, base.x0 - base.vbar * DT, base.v0, 0.0, x_mu=base.x_mu, w=W, c_mu=C_MU)
+    earlier = simulate_batch(prof, base.x0 - base.vbar * DT, base.v0, x_mu=base.x_mu, w=W, c_mu=C_MU)
     np.testing.assert_allclose(earlier.x_end, base.x_end, rtol=0, atol=1e-12)
     step = np.max(np.abs(np.diff(np.append(base.overshoot, base.overshoot[0]))))
     assert 0 < step < 0.2 * (base.overshoot_max - base.overshoot_min)
@@ -154,7 +156,7 @@ def test_sufficient_condition_is_not_independent_of_entries():
     f_mu = float(stick_map(pos.x_mu, prof, w=W, c_mu=C_MU, x_mu=pos.x_mu))
     assert 0 < pos.x_stick_min - f_mu < 3e-5
     assert pos.frac_accumulate == 63 / 64
-    rest = pos.status == Outcome.REST
+    rest = pos.status == REST
     assert np.all(pos.x_end[rest] > pos.x_stick_min)
 
 
@@ -163,7 +165,7 @@ def test_chaotic_entries_are_reported_undecided():
     amplify differences), and at (1.6, 1.7) some entries move irregularly for 1000
     periods: reported HORIZON/BOUNDED (undecided), counted in frac_undecided, never hang."""
     pos = positioning(profile(1.6, 1.7), w=W, c_mu=C_MU, n_entries=32, max_periods=300)
-    undecided = pos.status == Outcome.HORIZON
+    undecided = pos.status == HORIZON
     assert undecided.any() and np.all(pos.reason[undecided] == Reason.BOUNDED)
     assert pos.frac_undecided == undecided.mean()
     assert np.all(np.isnan(pos.overshoot[undecided]))

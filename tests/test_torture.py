@@ -74,18 +74,25 @@ def assert_matches_reference(traj, profile, v0, periods, ulps=64):
 
 
 def moreau_converges(profile, x_exact, surface=None, **scene):
-    """Moreau converges at first order: from h = dt/200 to dt/6400 the error to the exact
-    answer shrinks at least 4-fold (32-fold expected; the constant of the O(h) error depends
-    on where the steps fall relative to the events, so it is not monotone in between) and is
-    at most 10 periods h max|y''| at the finer step."""
+    """Moreau converges at first order: over ten steps h = dt/n, n = 200 ... 7700 in ratio
+    1.5 (not powers of two, whose error constants can alias: the constant of the O(h) error
+    depends on where the steps fall relative to the events, README "Solvers"), the
+    Theil-Sen slope of log error against log h lies in [0.7, 1.5], and every error is at
+    most 10 periods h max|y''|."""
+    from scipy.stats import theilslopes
+
+    steps = np.unique(np.round(200 * 1.5 ** np.arange(10)).astype(int))
     errors = []
-    for n in (200, 6400):
+    for n in steps:
         traj = run(profile, surface, "moreau", {"h": profile.dt / n}, **scene)
         assert traj.status in FINAL, traj.message
         errors.append(abs(traj.x_end - x_exact))
-    assert errors[1] <= errors[0] / 4 or errors[1] <= 1e-12, errors
-    bound = 10 * scene.get("periods", 1) * profile.dt / 6400 * max(profile.max_abs_acceleration, 1.0)
-    assert errors[1] <= bound, (errors, bound)
+    errors, h = np.array(errors), profile.dt / steps
+    bound = 10 * scene.get("periods", 1) * h * max(profile.max_abs_acceleration, 1.0)
+    assert np.all(errors <= bound), (errors, bound)
+    if np.all(errors > 1e-12):
+        slope = theilslopes(np.log(errors), np.log(h)).slope
+        assert 0.7 <= slope <= 1.5, (slope, errors)
 
 
 # ------------------------------------------------------------------------------------------
@@ -193,7 +200,8 @@ def test_accumulation_reaches_limit_with_bounded_work():
     cos(omega (t2 - t1)) (stick_map_contraction; the measured ratio of the last increments,
     to 1e-4), and a bounded number of events
     (< 200 for accumulation_tol = 1e-12).  Moreau (scheme limit) reaches the same limit;
-    ivp ends at rest at the limit to 1e-9 or says it did not decide."""
+    ivp, whose stick events go through the same accumulation test (README "Solvers"), ends
+    in the accumulation (or at rest) at the limit to 1e-9."""
     zone = sa.StopZone(0.5, 0.05, 2.5)
     limit = Fraction(1, 2) + Fraction(1, 20) * (Fraction(11, 5) - 1) / (Fraction(5, 2) - 1)
     assert limit == Fraction(27, 50)
@@ -207,7 +215,7 @@ def test_accumulation_reaches_limit_with_bounded_work():
     moreau = run(FIG18, zone, "moreau", until="rest", max_periods=1000)
     assert moreau.status is sa.Status.ACCUMULATION and abs(moreau.x_end - float(limit)) <= 1e-12
     ivp = run(FIG18, zone, "ivp", until="rest", max_periods=200)
-    assert ivp.status in (sa.Status.REST, sa.Status.HORIZON), ivp.message
+    assert ivp.status in (sa.Status.ACCUMULATION, sa.Status.REST), ivp.message
     assert abs(ivp.x_end - float(limit)) <= 1e-9
 
 
@@ -237,8 +245,8 @@ def test_periodic_motion_inside_zone_is_detected():
 def test_walking_through_a_weak_zone_is_detected():
     """Hazard: c_mu = 1.5 < max|y''| = 2.2, so the mass can stick nowhere in the high-friction
     region (x_stick_min = +inf, eq. 41) and walks on forever.  Expected: NEVER_STOPS with a
-    positive net advance per period, after few periods; Moreau says so too; ivp stops at
-    max_periods with a message."""
+    positive net advance per period, after few periods; Moreau and ivp say so too (the same
+    period-boundary test, README "Solvers")."""
     zone = sa.StopZone(0.5, 0.05, 1.5)
     assert zone.x_stick_min(FIG18.max_abs_acceleration) == math.inf
     traj = run(FIG18, zone, until="rest", max_periods=1000)
@@ -247,7 +255,7 @@ def test_walking_through_a_weak_zone_is_detected():
     moreau = run(FIG18, zone, "moreau", until="rest", max_periods=1000)
     assert moreau.status is sa.Status.NEVER_STOPS
     ivp = run(FIG18, zone, "ivp", until="rest", max_periods=30)
-    assert ivp.status is sa.Status.HORIZON and "max_periods" in ivp.message
+    assert ivp.status is sa.Status.NEVER_STOPS and "walks through" in ivp.message
 
 
 # ------------------------------------------------------------------------------------------

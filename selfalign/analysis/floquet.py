@@ -34,10 +34,11 @@ Floquet multipliers.  :func:`floquet` computes it by
 
 The periodic motion is started from the closed-form steady state
 (:func:`selfalign.analysis.steady_state.steady_state`: x'(0) = v0) for a three-phase
-profile on a uniform surface at phase 0, and is otherwise found by simulating
-with the exact solver until the state at the period boundary repeats bit for bit
-((x', mode) on a uniform surface, where the motion is invariant under shifts in
-x; (x, x', mode) on a stop zone) with the shortest period k <= 8.
+profile on a uniform surface at phase 0, and is otherwise found by the driver with
+``until="cycle"`` (:func:`selfalign.simulate_batch`): the exact solver runs until the
+state at the period boundary repeats bit for bit ((x', mode) where all periods of the
+cycle lie in one region of constant friction, where the motion is invariant under
+shifts in x; (x, x', mode) otherwise) with the shortest period k <= 8.
 """
 
 from __future__ import annotations
@@ -48,13 +49,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..model import arcs as _arcs
 from ..model.friction import StopZone, Uniform
 from ..model.profiles import Profile, ThreePhaseProfile
-from ..model.scene import Scene
-from ..solvers.driver import resolve_options
-from ..model import arcs as _arcs
-from ..solvers.exact import ExactSolver
-from ..solvers.outcomes import EventKind
+from ..model.scene import Record, Scene
+from ..solvers.driver import simulate, simulate_batch
+from ..solvers.methods import resolve
+from ..solvers.outcomes import MAX_CYCLE, EventKind, Reason, Status
 
 NUMERIC_SOLVERS = ("exact", "moreau")
 #: Options of each method, with their defaults.  ``max_periods`` bounds the search for
@@ -70,8 +71,6 @@ DEFAULT_OPTIONS = {
 #: smooth, so central differences are exact to O(eps^2) on smooth pieces and to O(eps)
 #: where a stick makes the map kink (x(dt) gains +-dv^2/2 for either sign of dv).
 EXACT_EPS = 1e-7
-#: Longest k of a k-periodic motion looked for.
-MAX_CYCLE = 8
 
 
 @dataclass(frozen=True)
@@ -120,7 +119,13 @@ def _system(profile_or_scene):
 
 
 def _check_options(method, options):
-    opts = resolve_options(method, options, DEFAULT_OPTIONS)
+    if method not in DEFAULT_OPTIONS:
+        raise ValueError(f"unknown method {method!r}; allowed: {', '.join(DEFAULT_OPTIONS)}")
+    allowed = DEFAULT_OPTIONS[method]
+    unknown = sorted(set(options) - set(allowed))
+    if unknown:
+        raise ValueError(f"unknown option(s) {unknown} for method {method!r}; allowed: {sorted(allowed)}")
+    opts = {**allowed, **options}
     if "max_periods" in opts:
         mp = opts["max_periods"]
         if isinstance(mp, bool) or not isinstance(mp, numbers.Integral) or mp < 1:
@@ -135,8 +140,8 @@ def _check_options(method, options):
         h = opts["h"]
         if opts["solver"] == "exact" and h is not None:
             raise ValueError("option h (time step) applies to solver='moreau' only")
-        if h is not None and (isinstance(h, bool) or not isinstance(h, numbers.Real) or not h > 0.0):
-            raise ValueError(f"option h (time step) must be a number > 0, got {h!r}")
+        if h is not None:
+            resolve("moreau", {"h": h})
     return opts
 
 
@@ -156,25 +161,19 @@ def periodic_motion(profile_or_scene, max_periods: int = 10_000) -> PeriodicMoti
 
         ss = steady_state(profile)
         return PeriodicMotion(profile, surface, x0, ss.v0, phase, 1, ss.vbar * profile.dt, "closed form")
-    solver = ExactSolver(profile, surface, x0, v0, phase, record=False)
-    uniform = isinstance(surface, Uniform)
-    history = [(solver.xi, solver.v, solver.mode)]
-    advances = []
-    for n in range(1, max_periods + 1):
-        step = solver.step_period()
-        advances.append(step.advance)
-        state = (solver.xi, solver.v, solver.mode)
-        for k in range(1, min(MAX_CYCLE, n) + 1):
-            old = history[-k]
-            if old[1:] == state[1:] and (uniform or old[0] == state[0]):
-                # On a stop zone the state repeats exactly: no net advance.
-                advance = float(sum(advances[-k:])) if uniform else 0.0
-                return PeriodicMotion(profile, surface, solver.x, solver.v, phase, k, advance,
-                                      f"simulated {n} periods")
-        history.append(state)
-        del history[:-MAX_CYCLE]
-    raise ValueError(f"no periodic motion found: the state at the period boundary did not repeat with a "
-                     f"period <= {MAX_CYCLE} within max_periods = {max_periods} periods")
+    res = simulate_batch(profile, x0, v0, phase, surface=None if isinstance(surface, Uniform) else surface,
+                         until="cycle", max_periods=max_periods, max_cycle=MAX_CYCLE)
+    reason = Reason(int(res.reason[0]))
+    if reason is Reason.REST:       # stuck for good: the state repeats every period
+        return PeriodicMotion(profile, surface, float(res.x_end[0]), 0.0, phase, 1, 0.0,
+                              f"at rest from period {int(res.period_end[0])}")
+    if reason.status is not Status.NEVER_STOPS:
+        raise ValueError(f"no periodic motion found: the state at the period boundary did not repeat with a "
+                         f"period <= {MAX_CYCLE} within max_periods = {max_periods} periods ({res.message(0)})")
+    k = int(res.cycle[0])
+    advance = float(res.advance[0]) * k if isinstance(surface, Uniform) else 0.0
+    return PeriodicMotion(profile, surface, float(res.x_end[0]), float(res.v_end[0]), phase, k, advance,
+                          f"simulated {int(res.period_end[0])} periods")
 
 
 # --------------------------------------------------------------------------------------
@@ -223,14 +222,14 @@ def saltation_matrix(kind, v: float, acc_before: float, acc_after: float) -> np.
 
 
 def arc_matrix(arc) -> np.ndarray:
-    """Fundamental matrix of one arc of the exact solver (:func:`arcs.fundamental_matrix`).
+    """Fundamental matrix of one arc record of the exact solver (:func:`arcs.fundamental_matrix`).
 
     SMOOTH arcs (Fourier profile, uniform surface) have x'' = -y''(t) - sigma,
     independent of the state, so their matrix is that of a quadratic arc,
     [[1, s], [0, 1]].
     """
-    kind = _arcs.QUADRATIC if arc.kind == _arcs.SMOOTH else arc.kind
-    return np.array(_arcs.fundamental_matrix(kind, arc.omega, arc.duration), dtype=float)
+    m11, m12, m21, m22 = _arcs.fundamental_matrix(int(arc["kind"]), float(arc["omega"]), float(arc["duration"]))
+    return np.array([[m11, m12], [m21, m22]])
 
 
 def monodromy_from_record(arcs, events) -> tuple[np.ndarray, dict]:
@@ -243,19 +242,20 @@ def monodromy_from_record(arcs, events) -> tuple[np.ndarray, dict]:
     map non-smooth; the product is then the derivative for perturbations that
     move that event earlier, and ``info["grazing_events"]`` counts them.
     """
-    items = [((a.period, a.tau, 1, i), a) for i, a in enumerate(arcs)]
-    items += [((e.period, e.tau, 0, i), e) for i, e in enumerate(events)]
+    items = [((int(a["period"]), float(a["tau"]), 1, i), a) for i, a in enumerate(arcs)]
+    items += [((int(e["period"]), float(e["tau"]), 0, i), e) for i, e in enumerate(events)]
     items.sort(key=lambda item: item[0])
-    switch_times = {(e.period, e.tau) for e in events if e.kind == EventKind.SWITCH}
-    grazing = sum(1 for e in events if e.kind in (EventKind.STICK, EventKind.REVERSAL)
-                  and (e.period, e.tau) in switch_times)
+    switch_times = {(int(e["period"]), float(e["tau"])) for e in events if e["kind"] == EventKind.SWITCH}
+    grazing = sum(1 for e in events if e["kind"] in (EventKind.STICK, EventKind.REVERSAL)
+                  and (int(e["period"]), float(e["tau"])) in switch_times)
     m = np.eye(2)
     for (_, _, is_arc, _), item in items:
         if is_arc:
-            m = arc_matrix(item) @ m
+            m = _matmul(arc_matrix(item), m)
         else:
-            m = saltation_matrix(item.kind, item.v, item.acc_before, item.acc_after) @ m
-    counts = {k.name.lower(): sum(1 for e in events if e.kind == k) for k in EventKind}
+            m = _matmul(saltation_matrix(item["kind"], float(item["v"]), float(item["acc_before"]),
+                                         float(item["acc_after"])), m)
+    counts = {k.name.lower(): int(np.count_nonzero(events["kind"] == k)) for k in EventKind}
     return m, {"arcs": len(arcs), "events": counts, "grazing_events": grazing}
 
 
@@ -269,40 +269,35 @@ def _analytic(motion, opts):
     return np.asarray(monodromy_analytic(motion.profile), dtype=float), {}
 
 
+def _matmul(a, b) -> np.ndarray:
+    """2 x 2 matrix product written out: no BLAS, the same bits on every CPU."""
+    return np.array([[a[0, 0] * b[0, 0] + a[0, 1] * b[1, 0], a[0, 0] * b[0, 1] + a[0, 1] * b[1, 1]],
+                     [a[1, 0] * b[0, 0] + a[1, 1] * b[1, 0], a[1, 0] * b[0, 1] + a[1, 1] * b[1, 1]]])
+
+
 def _saltation(motion, opts):
-    solver = ExactSolver(motion.profile, motion.surface, motion.x0, motion.v0, motion.phase, record=True)
-    arcs, events = [], []
-    for _ in range(motion.periods):
-        step = solver.step_period()
-        arcs.extend(step.arcs)
-        events.extend(step.events)
-    return monodromy_from_record(arcs, events)
+    scene = Scene(motion.profile, motion.surface, x0=motion.x0, v0=motion.v0, phase=motion.phase,
+                  periods=motion.periods, record=Record(events=True, arcs=True))
+    traj = simulate(scene, "exact")
+    return monodromy_from_record(traj.arcs, traj.events)
 
 
-def _period_map_exact(motion, x0, v0):
-    """(x - x0_motion, x') after ``motion.periods`` periods from each (x0, v0), exact solver."""
-    out = []
-    for x, v in zip(x0, v0):
-        solver = ExactSolver(motion.profile, motion.surface, float(x), float(v), motion.phase, record=False)
-        shift = 0.0
-        for _ in range(motion.periods):
-            shift += solver.step_period().advance
-        # Displacement relative to the unperturbed start, kept small so no large x enters.
-        out.append(((x - motion.x0) + shift, solver.v))
-    return np.array(out)
-
-
-def _period_map_moreau(motion, x0, v0, h):
-    from ..solvers.moreau import solve_batch
-
-    res = solve_batch(motion.profile, motion.surface, np.asarray(x0), np.asarray(v0), motion.periods,
-                      h=h, phase=motion.phase)
-    return np.stack([res.x_end - motion.x0, res.v_end], axis=1)
+def _period_map(motion, x0, v0, method, options):
+    """(x - x0_motion, x') after ``motion.periods`` periods from each (x0, v0), one batch.
+    Positions are read relative to each member's origin (x0 on a uniform surface, x_mu on
+    a stop zone), so no large x enters the differences."""
+    uniform = isinstance(motion.surface, Uniform)
+    res = simulate_batch(motion.profile, np.asarray(x0), np.asarray(v0), motion.phase,
+                         surface=None if uniform else motion.surface, until="periods", periods=motion.periods,
+                         method=method, fast_forward=False, **options)
+    xi = res.records["xi"]
+    shift = (np.asarray(x0) - motion.x0) + xi if uniform else xi - (motion.x0 - motion.surface.x_mu)
+    return np.stack([shift, res.v_end], axis=1)
 
 
 def moreau_step(dt: float, h) -> float:
     """The Moreau step actually used for a requested ``h`` (dt / ceil(dt / h); None: dt / 1000)."""
-    from ..solvers.moreau import steps_per_period
+    from ..solvers.methods import steps_per_period
 
     return steps_per_period(float(dt), h)[1]
 
@@ -325,22 +320,47 @@ def _numeric(motion, opts):
     if opts["solver"] == "exact":
         eps = EXACT_EPS if opts["eps"] is None else opts["eps"]
         xs, vs = _fd_points(x0, v0, eps)
-        return _fd_matrix(_period_map_exact(motion, xs, vs), xs, vs, x0, v0), {"solver": "exact", "eps": eps}
+        return (_fd_matrix(_period_map(motion, xs, vs, "exact", {}), xs, vs, x0, v0),
+                {"solver": "exact", "eps": eps})
     h = moreau_step(motion.profile.dt, opts["h"])
     eps = math.sqrt(h) if opts["eps"] is None else opts["eps"]
     xs, vs = _fd_points(x0, v0, eps)
-    return (_fd_matrix(_period_map_moreau(motion, xs, vs, h), xs, vs, x0, v0),
+    return (_fd_matrix(_period_map(motion, xs, vs, "moreau", {"h": h}), xs, vs, x0, v0),
             {"solver": "moreau", "eps": eps, "h": h})
 
 
 def eigen(monodromy) -> tuple[np.ndarray, np.ndarray]:
     """Eigenvalues sorted by decreasing modulus (ties: larger real part first) and unit
-    eigenvectors as columns; real arrays when the eigenvalues are real."""
-    w, vec = np.linalg.eig(np.asarray(monodromy, dtype=float))
+    eigenvectors as columns; real arrays when the eigenvalues are real.
+
+    Closed form for the 2 x 2 case (no LAPACK, so the same bits on every CPU): with
+    m = (a + d) / 2 and disc = ((a - d) / 2)^2 + b c, the larger root is m + sign(m) sqrt(disc)
+    and the other det / that (no cancellation); an eigenvector of lambda is (b, lambda - a) or
+    (lambda - d, c), whichever is larger, scaled to unit length with its larger component
+    positive.
+    """
+    (a, b), (c, d) = np.asarray(monodromy, dtype=float)
+    m, half = 0.5 * (a + d), 0.5 * (a - d)
+    disc = half * half + b * c
+    if disc >= 0.0:
+        root = math.sqrt(disc)
+        big = m + math.copysign(root, m) if m != 0.0 else root
+        small = (a * d - b * c) / big if big != 0.0 else m - root
+        w = np.array([big, small])
+    else:
+        root = math.sqrt(-disc)
+        w = np.array([complex(m, root), complex(m, -root)])
     order = np.lexsort((-w.real, -np.abs(w)))
-    w, vec = w[order], vec[:, order]
-    if np.all(w.imag == 0.0):
-        w, vec = w.real, vec.real
+    w = w[order]
+    vec = np.zeros((2, 2), dtype=w.dtype)
+    for j, lam in enumerate(w):
+        u, v = (b, lam - a), (lam - d, c)
+        cand = u if abs(u[0]) + abs(u[1]) >= abs(v[0]) + abs(v[1]) else v
+        if cand[0] == 0 and cand[1] == 0:        # a multiple of the identity: any vector
+            cand = (1.0, 0.0) if j == 0 else (0.0, 1.0)
+        norm = math.sqrt(abs(cand[0]) ** 2 + abs(cand[1]) ** 2)
+        sign = 1.0 if (cand[0] if abs(cand[0]) >= abs(cand[1]) else cand[1]).real >= 0.0 else -1.0
+        vec[:, j] = (sign * cand[0] / norm, sign * cand[1] / norm)
     return w, vec
 
 
@@ -438,14 +458,13 @@ def stability_result(scene: Scene, moreau_steps=(100, 1000, 10000), moreau_eps=(
 def _moreau_batch(profiles, v0s, steps: int):
     """Numeric (Moreau) monodromies of many three-phase steady states (uniform surface,
     start at t = 0) in one batched run, eps = sqrt(h) as in :func:`floquet`."""
-    from ..solvers.moreau import solve_batch
-
     h = np.array([p.dt / steps for p in profiles])
     eps = np.sqrt(h)
     xs = np.stack([eps, -eps, 0 * eps, 0 * eps], axis=1)                 # x0 = 0
     vs = np.stack([v0s, v0s, v0s + eps, v0s - eps], axis=1)
-    res = solve_batch([p for p in profiles for _ in range(4)], Uniform(), xs.ravel(), vs.ravel(), 1,
-                      h=np.repeat(h, 4))
+    res = simulate_batch(profiles, xs.ravel(), vs.ravel(), profile_index=np.repeat(np.arange(len(profiles)), 4),
+                         until="periods", periods=1, method="moreau", steps_per_period=int(steps),
+                         fast_forward=False)
     p = np.stack([res.x_end, res.v_end], axis=1).reshape(len(profiles), 4, 2)
     dx = xs[:, 0] - xs[:, 1]
     dv = (vs[:, 2] - v0s) - (vs[:, 3] - v0s)

@@ -35,11 +35,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..model import arcs as _arcs
 from ..model.friction import Uniform
 from ..model.profiles import Profile, ThreePhaseProfile
-from ..model.scene import Scene
-from ..model import arcs as _arcs
-from ..solvers.exact import ExactSolver
+from ..model.scene import Record, Scene
+from ..solvers.driver import simulate
 
 
 @dataclass(frozen=True)
@@ -79,18 +79,19 @@ class LyapunovTrace:
 class _Arcs:
     """One trajectory's arcs as arrays, evaluated at arbitrary times inside the run."""
 
-    def __init__(self, profile, arc_list):
+    def __init__(self, profile, arcs):
         dt = float(profile.dt)
         self.profile = profile
         # Zero-length arcs hold no time and start where their neighbour does.
-        cols = list(zip(*[arc for arc in arc_list if arc.duration > 0.0]))
-        self.kind = np.array(cols[0], dtype=int)
-        self.start = np.array(cols[1], dtype=float) * dt + np.array(cols[2], dtype=float)
-        self.tau = np.array(cols[2], dtype=float)
-        self.duration = np.array(cols[3], dtype=float)
-        self.v0 = np.array(cols[5], dtype=float)
-        self.acc = np.array(cols[6], dtype=float)
-        self.mode = np.array(cols[9], dtype=int)
+        arcs = arcs[arcs["duration"] > 0.0]
+        self.kind = arcs["kind"].astype(int)
+        self.start = arcs["period"] * dt + arcs["tau"]
+        self.tau = arcs["tau"].copy()
+        self.duration = arcs["duration"].copy()
+        self.v0 = arcs["v"].copy()
+        self.acc = arcs["acc"].copy()
+        self.table_acc = arcs["table_acc"].copy()       # NaN on a smooth profile
+        self.mode = arcs["mode"].astype(int)
 
     def locate(self, t, right=True):
         """Index of the arc holding each time: the one starting there (``right``) or ending there."""
@@ -103,15 +104,18 @@ class _Arcs:
         s = np.clip(t - self.start[i], 0.0, self.duration[i])
         kind, v0, acc, mode = self.kind[i], self.v0[i], self.acc[i], self.mode[i]
         sigma = mode.astype(float)
-        tt = self.tau[i] + s
-        ydd = np.asarray(self.profile.acceleration(tt), dtype=float)
+        # y'': the arc's constant value on a piecewise-constant profile, else the profile at the
+        # absolute time t itself (the same argument for both trajectories, so equal slips give
+        # bit-equal x'' and V' = 0 exactly on "=" intervals).
+        ydd = np.where(np.isnan(self.table_acc[i]), np.asarray(self.profile.acceleration(t), dtype=float),
+                       self.table_acc[i])
         smooth = kind == _arcs.SMOOTH
         # Piecewise-constant slip: v = v0 + acc s (eqs. 15-20); Fourier slip: closed form
         # v = v0 - sigma s - (y'(t) - y'(t0)); stick: v = 0, x'' = 0.
         v = np.where(kind == _arcs.STICK, 0.0, v0 + acc * s)
         if smooth.any():
             yd = self.profile.velocity
-            v = np.where(smooth, v0 - sigma * s - (np.asarray(yd(tt)) - np.asarray(yd(self.tau[i]))), v)
+            v = np.where(smooth, v0 - sigma * s - (np.asarray(yd(t)) - np.asarray(yd(self.start[i]))), v)
         xdd = np.where(kind == _arcs.STICK, 0.0, np.where(smooth, -ydd - sigma, acc))
         return v, xdd, mode, ydd
 
@@ -122,11 +126,9 @@ def _selected_sign(mode, ydd):
 
 
 def _run(profile, v0, phase, periods):
-    solver = ExactSolver(profile, Uniform(), 0.0, v0, phase, record=True)
-    arc_list = []
-    for _ in range(periods):
-        arc_list.extend(solver.step_period().arcs)
-    return _Arcs(profile, arc_list)
+    traj = simulate(Scene(profile, Uniform(), x0=0.0, v0=v0, phase=phase, periods=periods,
+                          record=Record(arcs=True)), "exact")
+    return _Arcs(profile, traj.arcs)
 
 
 def _check(profile_or_scene, v10, v20, periods, phase, samples_per_period):

@@ -46,8 +46,11 @@ import numpy as np
 from .classification import check_parameters
 from ..model.errors import check_finite, check_positive
 from ..model.friction import StopZone
-from ..model.profiles import ThreePhaseProfile
-from ..solvers.batch import Outcome, solve_batch, three_phase_pieces
+from ..model.profiles import ThreePhaseProfile, three_phase_times
+from ..solvers.driver import ProfileTable, simulate_batch
+from ..solvers.exact import piecewise_rows
+from ..solvers.outcomes import STATUS_CODES, Status
+from ..solvers.records import EXACT_PIECEWISE
 from .steady_state import steady_state_grid
 from .stick_map import stick_map, stick_map_validity
 
@@ -78,35 +81,49 @@ def _check_levels(levels):
     return levels
 
 
+#: Status codes of the per-entry ``status`` arrays (``list(selfalign.Status).index``).
+ACCUMULATE, REST, NEVER_STOPS = (STATUS_CODES[s] for s in (Status.ACCUMULATION, Status.REST, Status.NEVER_STOPS))
+
+
+def three_phase_table(dt, dy, y2, y3) -> ProfileTable:
+    """Kernel profile table of three-phase profiles (flat arrays; every one physical)."""
+    times = three_phase_times(dt, dy, y2, y3)
+    if not np.all(times.feasible):
+        raise ValueError("three-phase profiles: every (dt, dy, y2, y3) must be physical (q <= 1)")
+    zero = np.zeros_like(times.t1)
+    breaks = np.stack([zero, times.t1, times.t2, times.t3], axis=-1)
+    accels = np.stack([zero, -np.broadcast_to(y2, zero.shape), np.broadcast_to(y3, zero.shape)], axis=-1)
+    return ProfileTable(piecewise_rows(breaks, accels), EXACT_PIECEWISE)
+
+
 def _run_chunk(args):
     """Simulate the entries of settings (flat arrays); per-entry arrays shaped (M, N)."""
     dt, dy, y2, y3, v0, vbar, w, c_mu, n_entries, offset, max_periods, tol, levels = args
     m = dt.size
-    breaks, accels = three_phase_pieces(dt, dy, y2, y3)
+    table = three_phase_table(dt, dy, y2, y3)
     # Delta_x: the largest x over one steady period from x_s(0) = 0 (local maxima are v = 0 events).
-    dx = solve_batch(breaks, accels, 0.0, v0, 0.0, until="periods", periods=1).x_max
+    dx = simulate_batch(table, 0.0, v0, profile_index=np.arange(m), until="periods", periods=1,
+                        fast_forward=False).x_max if m else np.zeros(0)
     frac = (np.arange(n_entries) + offset) / n_entries
     s = (vbar * dt)[:, None] * frac[None, :]
     amax = np.maximum(y2, y3)
     xs_rel = np.where(amax > c_mu, np.inf, w * (amax - 1.0) / (c_mu - 1.0))  # eq. (41)
     lev = dx[:, None] + levels[None, :] * xs_rel[:, None]
     rep = lambda a: np.repeat(a, n_entries, axis=0)  # noqa: E731
-    res = solve_batch(rep(breaks), rep(accels), -s.ravel(), rep(v0), 0.0, x_mu=rep(dx), w=w, c_mu=c_mu,
-                      levels=rep(lev), max_periods=max_periods, accumulation_tol=tol)
+    res = simulate_batch(table, -s.ravel(), rep(v0), profile_index=rep(np.arange(m)), x_mu=rep(dx), w=w,
+                         c_mu=c_mu, levels=rep(lev), until="rest", max_periods=max_periods, accumulation_tol=tol)
     per = lambda a: a.reshape((m, n_entries) + a.shape[1:])  # noqa: E731
-    dtr = dt[:, None]
-    t_cross = per(res.cross_period + res.cross_tau / np.repeat(dt, n_entries)[:, None])
-    t_cross = np.where(per(res.cross_period) >= 0, t_cross, np.nan)
-    t_first = per(res.first_stick_period + res.first_stick_tau / np.repeat(dt, n_entries))
-    t_first = np.where(per(res.first_stick_period) >= 0, t_first, np.nan)
+    crossing = np.stack([res.crossing_time(j) for j in range(res.boundaries.shape[1])], axis=1)
+    t_cross = per(crossing)
     return {
         "dx_period": dx, "x_stick_min_rel": xs_rel, "s": s,
         "status": per(res.status), "reason": per(res.reason), "overshoot": per(res.x_end) - dx[:, None],
-        "periods": per(res.period_end) + per(res.tau_end) / dtr,
+        "periods": per(res.t_end),
         "zone_sticks": per(res.zone_sticks), "contraction": per(res.contraction), "cycle": per(res.cycle),
-        "entry_time": t_cross[:, :, 0], "entry_tau": per(res.cross_tau[:, 0]), "entry_v": per(res.cross_v[:, 0]),
-        "first_stick_time": t_first, "first_stick_x": per(res.first_stick_x) - dx[:, None],
-        "level_time": t_cross[:, :, 2:], "level_sticks": per(res.cross_sticks[:, 2:]),
+        "entry_time": t_cross[:, :, 0], "entry_tau": per(res.crossings["tau"][:, 0]),
+        "entry_v": per(res.crossings["v"][:, 0]),
+        "first_stick_time": per(res.first_stick_time), "first_stick_x": per(res.first_stick_x) - dx[:, None],
+        "level_time": t_cross[:, :, 2:], "level_sticks": per(res.crossings["sticks"][:, 2:]),
         "events": per(res.events),
     }
 
@@ -147,7 +164,7 @@ class Positioning:
     ``frac_undecided`` (no outcome within ``max_periods``: bounded non-periodic
     motion); ``accumulation``: "all", "some" or "none" of the entries.
     Per entry (arrays of n_entries): ``s`` (offset), ``x0``, ``status``
-    (:class:`selfalign.solvers.batch.Outcome` codes), ``reason``, ``x_end`` (the end
+    (status codes: the index in ``list(selfalign.Status)``), ``reason``, ``x_end`` (the end
     position, or the state where a never-stop/undecided run was stopped),
     ``overshoot`` (NaN unless it stops), ``periods`` (end time in periods),
     ``zone_sticks``, ``first_stick_x`` (first stick at x >= x_mu), ``contraction``,
@@ -194,10 +211,10 @@ class Positioning:
 def _summary(status, overshoot):
     """Outcome fractions, overshoot range and Delta_x_d (eq. 39) over the last axis (the entries)."""
     n = status.shape[-1]
-    acc = np.count_nonzero(status == Outcome.ACCUMULATION, axis=-1) / n
-    rest = np.count_nonzero(status == Outcome.REST, axis=-1) / n
-    never = np.count_nonzero(status == Outcome.NEVER_STOPS, axis=-1) / n
-    stops = (status == Outcome.ACCUMULATION) | (status == Outcome.REST)
+    acc = np.count_nonzero(status == ACCUMULATE, axis=-1) / n
+    rest = np.count_nonzero(status == REST, axis=-1) / n
+    never = np.count_nonzero(status == NEVER_STOPS, axis=-1) / n
+    stops = (status == ACCUMULATE) | (status == REST)
     with np.errstate(invalid="ignore"):
         lo = np.where(stops.any(axis=-1), np.where(stops, overshoot, np.inf).min(axis=-1), np.nan)
         hi = np.where(stops.any(axis=-1), np.where(stops, overshoot, -np.inf).max(axis=-1), np.nan)
@@ -230,7 +247,7 @@ def _positioning(profile, w, c_mu, n_entries, offset, max_periods, accumulation_
     r = {key: val[0] for key, val in runs.items()}
     summ = {key: float(val[0]) for key, val in _summary(runs["status"], runs["overshoot"]).items()}
     x_mu = float(r["dx_period"])
-    stops = (r["status"] == Outcome.ACCUMULATION) | (r["status"] == Outcome.REST)
+    stops = (r["status"] == ACCUMULATE) | (r["status"] == REST)
     frac = summ["frac_accumulate"]
     return r, Positioning(
         profile=profile, w=float(w), c_mu=float(c_mu), case=int(ss.case[0]), vbar=float(ss.vbar[0]),
@@ -312,7 +329,7 @@ def positioning_grid(dt, dy, y2, y3, *, w: float, c_mu: float, n_entries: int = 
         return out.reshape(shape + extra)
 
     summ = _summary(runs["status"], runs["overshoot"])
-    acc = runs["status"] == Outcome.ACCUMULATION
+    acc = runs["status"] == ACCUMULATE
     any_acc = acc.any(axis=1)
     # Median over the accumulating entries (a sorted masked row: NaNs sort last).
     k = np.count_nonzero(acc, axis=1)
@@ -365,7 +382,7 @@ class AccumulationSpeed:
     positioning: Positioning
 
     def _worst(self, values):
-        acc = self.positioning.status == Outcome.ACCUMULATION
+        acc = self.positioning.status == ACCUMULATE
         return np.where(acc.any(), np.where(acc[:, None], values, -np.inf).max(axis=0), np.nan)
 
     @property
@@ -414,7 +431,7 @@ def accumulation_speed(profile: ThreePhaseProfile, *, w: float, c_mu: float, p=(
     """Times at which the steady-state entries reach x_mu + p (x_stick_min - x_mu) (Sect. 7.3)."""
     levels = _check_levels(p)
     r, pos = _positioning(profile, w, c_mu, n_entries, offset, max_periods, accumulation_tol, levels)
-    acc = (r["status"] == Outcome.ACCUMULATION)[:, None]
+    acc = (r["status"] == ACCUMULATE)[:, None]
     lt = r["level_time"]
     keep = lambda a: np.where(acc, a, np.nan)  # noqa: E731
     return AccumulationSpeed(

@@ -156,7 +156,7 @@ def stick_map_simulated(x_n, profile: ThreePhaseProfile, *, w: float, c_mu: floa
                         method: str = "batch"):
     """x_{n+1} measured by a solver: the first stick after t = 0 of a mass stuck at x_n at t = 0.
 
-    ``method="batch"`` runs all x_n together with :func:`selfalign.solvers.batch.solve_batch`;
+    ``method="batch"`` runs all x_n together with :func:`selfalign.simulate_batch`;
     ``method="exact"`` runs one :func:`selfalign.simulate` per x_n and reads the first
     STICK event of its event log.  A mass at rest for good at x_n maps to x_n; NaN
     where no stick follows within two periods.
@@ -168,12 +168,11 @@ def stick_map_simulated(x_n, profile: ThreePhaseProfile, *, w: float, c_mu: floa
     x_n = _positions(x_n)
     StopZone(x_mu=x_mu, w=w, c_mu=c_mu)  # validates the zone before any run
     if method == "batch":
-        from ..solvers.batch import Outcome, Reason, profile_pieces, solve_batch
+        from ..solvers.driver import simulate_batch
+        from ..solvers.outcomes import Reason
 
-        breaks, accels = profile_pieces(profile)
-        res = solve_batch(breaks, accels, x_n.ravel(), 0.0, 0.0, x_mu=x_mu, w=w, c_mu=c_mu,
-                          until="stick", max_periods=2)
-        found = (res.status == Outcome.REST) | (res.reason == Reason.STICK)
+        res = simulate_batch(profile, x_n.ravel(), 0.0, 0.0, x_mu=x_mu, w=w, c_mu=c_mu, until="stick", max_periods=2)
+        found = (res.reason == Reason.REST) | (res.reason == Reason.FIRST_STICK)
         return np.where(found, res.x_end, np.nan).reshape(x_n.shape)
 
     from ..model.scene import Record, Scene

@@ -17,15 +17,14 @@ uniform surface x does not enter the dynamics, so the steady state is a fixed
 point v* of the period map P: x'(0) -> x'(dt), and vbar = (x(n+1) - x(n)) / dt over
 a period that starts at v*.
 
-* With the exact solver (one trajectory at a time) the periods are simply
-  simulated from x'(0) = v0 until x'(0) has converged: equal, to ``floor`` =
-  NOISE_ULPS eps s (s the table velocity swing max y' - min y'), to its value k
-  periods earlier at two consecutive period boundaries, k <= MAX_CYCLE; vbar
-  is then the mean over those k periods.  k > 1 occurs for smooth (Fourier)
-  profiles: where a backward slip grazes x' = 0 at |y''| < 1 the period map
-  jumps (a slightly deeper graze sticks), and the steady motion can be a cycle
-  of many periods.  A bit-exact repeat is not awaited, as rounding of the event
-  times of a smooth profile can keep the last bits changing.
+* With the exact solver (one trajectory at a time) the driver simulates periods
+  from x'(0) = v0 until the period-boundary state repeats (bit for bit, or to its
+  near-repeat tolerance, :data:`selfalign.solvers.outcomes.NEAR_ULPS` ulp of
+  |x'| + s, s the table velocity swing max y' - min y') after a cycle of
+  k <= MAX_CYCLE periods; vbar is then the net advance over those k periods.
+  k > 1 occurs for smooth (Fourier) profiles: where a backward slip grazes x' = 0
+  at |y''| < 1 the period map jumps (a slightly deeper graze sticks), and the
+  steady motion can be a cycle of many periods.
 * For batches (Moreau time-stepping, the batched exact solver) plain iteration is
   too slow: P contracts by only c4 of eq. (33) per period in slip-slip (0.998 on
   the Fig. 10 grid, 0.9968 for the polynomial profile at dt = 0.01), i.e.
@@ -56,20 +55,20 @@ from dataclasses import dataclass, field, fields
 
 import numpy as np
 
-from .classification import decision_quantities
-from ..model.friction import Uniform
 from ..model.profiles import FourierProfile, PolynomialProfile, ThreePhaseProfile, three_phase_times
+from ..solvers.driver import simulate_batch
+from ..solvers.outcomes import Reason, Status
+from .classification import decision_quantities
 from .steady_state import OBJECTIVE_SCALE, steady_state_grid
 
 #: Bracket width at which the simulated steady state has converged, relative to the velocity swing.
 RTOL = 1e-14
-#: Period-to-period changes of x'(0) of at most this many ulp of the velocity swing are rounding.
-NOISE_ULPS = 16
 #: Probe offset of x'(0), relative to the velocity swing, for the slope of the period map.
 PROBE = 1e-7
 #: Period budget of one steady state in the Fourier optimisation (beyond it: time average).
 OPTIMISER_PERIODS = 5000
-#: Longest cycle of period-boundary states :func:`exact_steady_state` recognises, in periods.
+#: Longest cycle of period-boundary states :func:`exact_steady_state` asks the driver to recognise,
+#: in periods: smooth (Fourier) profiles can have long cycles where a backward slip grazes x' = 0.
 MAX_CYCLE = 64
 _EPS = np.finfo(float).eps
 
@@ -163,94 +162,71 @@ def iterate_to_steady_state(period_map, scale, dt, *, floor=0.0, rtol: float = R
 
 def velocity_swing(profile) -> float:
     """max y' - min y' of one profile (the velocity scale of the convergence test)."""
-    if profile.piecewise_constant:
-        return float(np.ptp(profile.piece_velocity))
-    return 2.0 * float(profile.peak_velocity)
+    return profile.velocity_swing
 
 
 def run_periods(profile, v0: float, periods: int = 1) -> tuple[float, float]:
-    """(x'(periods dt), x(periods dt) - x(0)) from x'(0) = v0, exact solver, uniform surface."""
-    from ..solvers.exact import ExactSolver
-
-    solver = ExactSolver(profile, Uniform(), 0.0, float(v0), record=False)
-    displacement = 0.0
-    for _ in range(int(periods)):
-        step = solver.step_period()
-        displacement += step.advance
-    return step.v, displacement
+    """(x'(periods dt), x(periods dt) - x(0)) from x'(0) = v0, exact solver, uniform surface
+    (every period simulated: no fast-forward, so perturbed runs share their arithmetic)."""
+    res = simulate_batch(profile, 0.0, float(v0), until="periods", periods=int(periods), fast_forward=False)
+    return float(res.v_end[0]), float(res.records["xi"][0])
 
 
 def exact_steady_state(profile, v0: float = 0.0, max_periods: int = 200_000,
                        aperiodic: str = "raise") -> SimulatedSteadyState:
     """Steady state of one profile (piecewise constant or Fourier) with the exact solver:
-    periods from x'(0) = v0 until x'(0) repeats, possibly after a cycle of k periods
-    (module docstring).  ``residual`` is the larger |x'(0) change| of the two checks.
+    the driver runs from x'(0) = v0 on a uniform surface until the period-boundary state
+    repeats, possibly after a cycle of up to MAX_CYCLE periods (module docstring), and
+    vbar is the net advance per period of that cycle over dt.  ``residual`` is 0 for a
+    bit-exact repeat and the driver's near-repeat tolerance otherwise (an upper bound).
 
-    No repeat within ``max_periods``: RuntimeError, or with ``aperiodic="average"``
-    the time average of the second half of the run as vbar (eq. 10 as a limit), with
-    ``cycle`` 0 and ``residual`` NaN.
+    No repeat within ``max_periods``: RuntimeError, or with ``aperiodic="average"`` the time
+    average of the second half of the run as vbar (eq. 10 as a limit), with ``cycle`` 0 and
+    ``residual`` NaN.
     """
-    from ..solvers.exact import ExactSolver
-
     if aperiodic not in ("raise", "average"):
         raise ValueError(f"aperiodic must be 'raise' or 'average', got {aperiodic!r}")
-    floor = NOISE_ULPS * _EPS * velocity_swing(profile)
-    solver = ExactSolver(profile, Uniform(), 0.0, float(v0), record=False)
-    size = MAX_CYCLE + 2
-    vs, advances = np.full(size, np.nan), np.zeros(size)   # ring buffers of x'(0) and advances
-    vs[0] = v0
-    half = max_periods // 2
-    second_half = 0.0
-    for n in range(1, max_periods + 1):
-        step = solver.step_period()
-        vs[n % size], advances[n % size] = step.v, step.advance
-        if n > half:
-            second_half += step.advance
-        if n < 3:
-            continue
-        lags = np.arange(1, min(MAX_CYCLE, n - 2) + 1)
-        now = np.abs(vs[n % size] - vs[(n - lags) % size])
-        before = np.abs(vs[(n - 1) % size] - vs[(n - 1 - lags) % size])
-        hit = np.flatnonzero((now <= floor) & (before <= floor))
-        if hit.size:
-            k = int(lags[hit[0]])
-            mean_advance = advances[(n - np.arange(k)) % size].sum() / k
-            return SimulatedSteadyState(np.array([mean_advance / profile.dt]), np.array([vs[(n - k) % size]]),
-                                        np.array([max(now[hit[0]], before[hit[0]])]), np.array([n]),
-                                        np.array([k]))
+    res = simulate_batch(profile, 0.0, float(v0), until="rest", max_periods=int(max_periods), max_cycle=MAX_CYCLE)
+    reason = Reason(int(res.reason[0]))
+    if reason is Reason.REST:          # pure stick: no relative motion
+        return SimulatedSteadyState(np.array([0.0]), np.array([0.0]), np.array([0.0]),
+                                    np.array([int(res.period_end[0])]), np.array([1]))
+    if reason.status is Status.NEVER_STOPS:
+        r = res.records[0]
+        return SimulatedSteadyState(np.array([float(r["advance"]) / profile.dt]), np.array([float(r["v"])]),
+                                    np.array([0.0]), np.array([int(r["n_end"])]), np.array([int(r["cycle"])]))
     if aperiodic == "average":
-        return SimulatedSteadyState(np.array([second_half / (max_periods - half) / profile.dt]),
-                                    np.array([step.v]), np.array([np.nan]), np.array([max_periods]),
-                                    np.array([0]))
+        half = int(max_periods) // 2
+        first = simulate_batch(profile, 0.0, float(v0), until="periods", periods=half, fast_forward=False)
+        rest = simulate_batch(profile, 0.0, float(first.v_end[0]), until="periods", periods=int(max_periods) - half,
+                              fast_forward=False)
+        return SimulatedSteadyState(np.array([float(rest.records["xi"][0]) / (int(max_periods) - half) / profile.dt]),
+                                    np.array([float(rest.v_end[0])]), np.array([np.nan]),
+                                    np.array([int(max_periods)]), np.array([0]))
     raise RuntimeError(f"exact steady state of {profile!r}: x'(0) has not converged (nor cycled with "
-                       f"<= {MAX_CYCLE} periods) in {max_periods} periods")
+                       f"<= {MAX_CYCLE} periods) in {max_periods} periods ({res.message(0)})")
 
 
 def _moreau_period_map(profiles, steps_per_period: int, iteration: str):
     """Period map from batched Moreau time-stepping with ``steps_per_period`` steps (h = dt / N)."""
-    from ..solvers.moreau import solve_batch
-
     def period_map(index, v):
-        sub = [profiles[i] for i in index.tolist()]
-        h = np.array([p.dt for p in sub]) / steps_per_period
-        res = solve_batch(sub, Uniform(), 0.0, v, 1, h=h, iteration=iteration)
-        if res.steps_per_period != steps_per_period:
-            raise RuntimeError(f"Moreau took {res.steps_per_period} steps per period, asked {steps_per_period}")
-        return np.reshape(res.v_end, index.shape), np.reshape(res.x_end, index.shape)  # x0 = 0
+        res = simulate_batch(profiles, 0.0, v, profile_index=index, until="periods", periods=1, method="moreau",
+                             steps_per_period=steps_per_period, iteration=iteration, fast_forward=False)
+        return np.reshape(res.v_end, index.shape), np.reshape(res.records["xi"], index.shape)  # x0 = 0
     return period_map
 
 
 def _three_phase_period_map(dt, dy, y2, y3):
     """Period map of three-phase profiles (flat feasible arrays) from the batched exact solver."""
-    from ..solvers import batch
+    from .positioning import three_phase_table
 
-    breaks, accels = batch.three_phase_pieces(dt, dy, y2, y3)
+    table = three_phase_table(dt, dy, y2, y3)
 
     def period_map(index, v):
-        res = batch.solve_batch(breaks[index], accels[index], 0.0, v, until="periods", periods=1)
-        if np.any(res.status == batch.Outcome.ERROR):
+        res = simulate_batch(table, 0.0, v, profile_index=index, until="periods", periods=1, fast_forward=False)
+        if np.any(res.reason == Reason.MAX_EVENTS):
             raise RuntimeError("batched exact solver failed on a three-phase profile")
-        return res.v_end, res.x_end        # x0 = 0: the end position is the displacement
+        return res.v_end, res.records["xi"]        # x0 = 0: the end position is the displacement
     return period_map
 
 

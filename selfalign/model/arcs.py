@@ -21,39 +21,28 @@ where s is the time since the arc start.  This is eq. (43) rewritten about the s
 state (x_eq = x0 + acc0 / b1 = b3 / b1, d1 = -acc0 / b1, d2 = v0 / omega); written this
 way no term is the difference of two large ones, so positions keep full relative
 accuracy even for a tiny b1 or a short arc.  A STICK arc has v = 0 and x constant
-(eqs. 22-24).
+(eqs. 22-24).  SMOOTH arcs (a Fourier profile on a uniform surface) are closed form
+too, but in the profile: see :mod:`selfalign.solvers.kernel`.
 
-Functions taking ``xp`` evaluate on floats with ``xp=math`` (the default, fast in
-scalar loops) or elementwise on numpy arrays with ``xp=numpy``.  Event-time functions
-(:func:`zero_velocity_time`, :func:`crossing_time`) are scalar.
+Every function here is a scalar function of floats written with :mod:`math` only, so
+that the compiled event kernel (:mod:`selfalign.solvers.kernel`) runs these very
+functions compiled, and Python code (tests, analyses) can call them as they are.
 """
 
 from __future__ import annotations
 
 import math
 
-#: Arc kinds (the ``kind`` of :class:`selfalign.solvers.exact.Arc`).
+from .registry import formula
+
+#: Arc kinds (the ``kind`` field of an arc record).
 STICK, QUADRATIC, HARMONIC, HYPERBOLIC, SMOOTH = 0, 1, 2, 3, 4
 #: Printable names of the arc kinds.
 ARC_NAMES = {STICK: "stick", QUADRATIC: "quadratic", HARMONIC: "harmonic",
              HYPERBOLIC: "hyperbolic", SMOOTH: "smooth"}
 
-_INF = math.inf
 
-
-def decide_mode(a: float, mu: float) -> int:
-    """Mode at zero relative velocity under table acceleration ``a`` (Sect. 3.2, DESIGN).
-
-    Stick (0) iff |a| <= mu (the tie |a| = mu sticks); otherwise slip in the direction
-    -sign(a): forward (+1) if a < -mu, backward (-1) if a > mu.
-    """
-    if a > mu:
-        return -1
-    if a < -mu:
-        return 1
-    return 0
-
-
+@formula
 def slip_kind(in_zone: bool, sigma: int) -> int:
     """Arc kind of a slip in direction ``sigma`` inside (``in_zone``) or outside the zone."""
     if not in_zone:
@@ -61,6 +50,7 @@ def slip_kind(in_zone: bool, sigma: int) -> int:
     return HARMONIC if sigma > 0 else HYPERBOLIC
 
 
+@formula
 def stiffness(kind: int, b1: float) -> float:
     """kappa of x'' = acc0 + kappa (x - x0) for an arc of ``kind`` (0 for stick/quadratic)."""
     if kind == HARMONIC:
@@ -70,57 +60,68 @@ def stiffness(kind: int, b1: float) -> float:
     return 0.0
 
 
-def basis(kind: int, omega: float, s, xp=math):
+@formula
+def basis(kind: int, omega: float, s: float):
     """(C, S1, S2) of the arc (module docstring) after time ``s``.
 
-    For STICK all three are 0, so that ``step`` gives no displacement and v = 0.
+    The harmonic and hyperbolic functions are built from the half angle, h = sin(w s / 2)
+    (sinh), c = cos(w s / 2) (cosh): C = 1 -+ 2 h^2, S1 = 2 h c / w, S2 = 2 h^2 / w^2, so
+    that C - 1 and S2 keep full relative accuracy for short arcs.  For STICK all three
+    are 0, so that :func:`step` gives no displacement and v = 0.
     """
     if kind == QUADRATIC:
         return 1.0, s, 0.5 * s * s
     if kind == HARMONIC:
-        half = xp.sin(0.5 * omega * s) / omega
-        return xp.cos(omega * s), xp.sin(omega * s) / omega, 2.0 * half * half
+        half = 0.5 * omega * s
+        h, c = math.sin(half), math.cos(half)
+        return 1.0 - 2.0 * h * h, 2.0 * h * c / omega, 2.0 * (h / omega) * (h / omega)
     if kind == HYPERBOLIC:
-        half = xp.sinh(0.5 * omega * s) / omega
-        return xp.cosh(omega * s), xp.sinh(omega * s) / omega, 2.0 * half * half
-    if kind == STICK:
-        return 0.0, 0.0 * s, 0.0 * s
-    raise ValueError(f"arc kind must be one of {sorted(ARC_NAMES)[:4]} here, got {kind!r}")
+        half = 0.5 * omega * s
+        h, c = math.sinh(half), math.cosh(half)
+        return 1.0 + 2.0 * h * h, 2.0 * h * c / omega, 2.0 * (h / omega) * (h / omega)
+    return 0.0, 0.0, 0.0
 
 
-def step(kind: int, omega: float, v0, acc0, s, xp=math):
+@formula
+def step(kind: int, omega: float, v0: float, acc0: float, s: float):
     """Displacement x(s) - x0 and velocity v(s) of an arc started with (v0, acc0).
 
     The displacement does not depend on x0, so a uniform-friction period advanced
     from the same velocity gives bit-identical displacements wherever it starts
     (used by the steady-state fast-forward).
     """
-    c, s1, s2 = basis(kind, omega, s, xp)
+    c, s1, s2 = basis(kind, omega, s)
     return v0 * s1 + acc0 * s2, v0 * c + acc0 * s1
 
 
-def acceleration(kind: int, b1: float, acc0, dx):
+@formula
+def acceleration(kind: int, b1: float, acc0: float, dx: float) -> float:
     """Relative acceleration x'' after a displacement ``dx`` from the arc start."""
     if kind == STICK:
-        return 0.0 * dx
+        return 0.0
     return acc0 + stiffness(kind, b1) * dx
 
 
-def fundamental_matrix(kind: int, omega: float, s, xp=math):
-    """d(x(s), v(s)) / d(x0, v0) of an arc of duration ``s``, as ((m11, m12), (m21, m22)).
+@formula
+def fundamental_matrix(kind: int, omega: float, s: float):
+    """d(x(s), v(s)) / d(x0, v0) of an arc of duration ``s``, as (m11, m12, m21, m22).
 
     Slip arcs: ((C, S1), (kappa S1, C)), with kappa = -omega^2 (harmonic), +omega^2
     (hyperbolic), 0 (quadratic), because acc0 depends on x0 through mu_bar (eq. 38).
+    SMOOTH arcs (x'' = -y''(t) - sigma does not depend on the state) are quadratic here.
     STICK: ((1, 0), (0, 0)): while |y''| < mu_bar a velocity perturbation is absorbed
     by the stick at once, a position perturbation is kept.  Event saltation matrices
     (built from the pre/post-event accelerations of the event log) are separate.
     """
     if kind == STICK:
-        return (1.0, 0.0 * s), (0.0 * s, 0.0 * s)
-    c, s1, _ = basis(kind, omega, s, xp)
-    return (c, s1), (stiffness(kind, omega * omega) * s1, c)
+        return 1.0, 0.0, 0.0, 0.0
+    if kind == SMOOTH:
+        kind = QUADRATIC
+    c, s1, _ = basis(kind, omega, s)
+    return c, s1, stiffness(kind, omega * omega) * s1, c
 
 
+@formula
 def first_positive_root(a: float, b: float, c: float) -> float:
     """Smallest root t > 0 of a t^2 + b t + c = 0, or inf.
 
@@ -130,23 +131,24 @@ def first_positive_root(a: float, b: float, c: float) -> float:
     """
     if a == 0.0:
         if b == 0.0:
-            return _INF
+            return math.inf
         t = -c / b
-        return t if t > 0.0 else _INF
+        return t if t > 0.0 else math.inf
     disc = b * b - 4.0 * a * c
     if disc < 0.0:
-        return _INF
+        return math.inf
     q = -0.5 * (b + math.copysign(math.sqrt(disc), b))
     if q == 0.0:  # b = 0 and c = 0: the only root is t = 0
-        return _INF
+        return math.inf
     r1, r2 = q / a, c / q
     if r1 > r2:
         r1, r2 = r2, r1
     if r1 > 0.0:
         return r1
-    return r2 if r2 > 0.0 else _INF
+    return r2 if r2 > 0.0 else math.inf
 
 
+@formula
 def zero_velocity_time(kind: int, omega: float, sigma: int, v0: float, acc0: float) -> float:
     """First s >= 0 at which a slip arc in direction ``sigma`` reaches v = 0, or inf.
 
@@ -162,19 +164,18 @@ def zero_velocity_time(kind: int, omega: float, sigma: int, v0: float, acc0: flo
         accurate for small and for large s).
     """
     if kind == QUADRATIC:
-        return -v0 / acc0 if acc0 * sigma < 0.0 else _INF
+        return -v0 / acc0 if acc0 * sigma < 0.0 else math.inf
     if kind == HARMONIC:
         # + 0.0 turns v0 = -0.0 into +0.0, so that atan2 does not return -pi.
         return math.atan2(v0 * omega + 0.0, -acc0) / omega
-    if kind == HYPERBOLIC:
-        if acc0 > 0.0:
-            den = acc0 + v0 * omega
-            if den > 0.0:
-                return math.log1p(-2.0 * v0 * omega / den) / (2.0 * omega)
-        return _INF
-    raise ValueError(f"zero_velocity_time needs a slip arc kind, got {kind!r}")
+    if acc0 > 0.0:   # HYPERBOLIC
+        den = acc0 + v0 * omega
+        if den > 0.0:
+            return math.log1p(-2.0 * v0 * omega / den) / (2.0 * omega)
+    return math.inf
 
 
+@formula
 def crossing_time(kind: int, omega: float, v0: float, acc0: float, delta: float) -> float:
     """First s > 0 at which the arc reaches x = x_b, with ``delta = x0 - x_b``, or inf.
 
@@ -192,8 +193,6 @@ def crossing_time(kind: int, omega: float, v0: float, acc0: float, delta: float)
         return first_positive_root(0.5 * acc0, v0, delta)
     if kind == HARMONIC:
         t = first_positive_root(delta + 2.0 * acc0 / (omega * omega), 2.0 * v0 / omega, delta)
-        return 2.0 * math.atan(t) / omega if t < _INF else _INF
-    if kind == HYPERBOLIC:
-        t = first_positive_root(2.0 * acc0 / (omega * omega) - delta, 2.0 * v0 / omega, delta)
-        return math.log1p(2.0 * t / (1.0 - t)) / omega if t < 1.0 else _INF
-    raise ValueError(f"crossing_time needs a slip arc kind, got {kind!r}")
+        return 2.0 * math.atan(t) / omega if t < math.inf else math.inf
+    t = first_positive_root(2.0 * acc0 / (omega * omega) - delta, 2.0 * v0 / omega, delta)
+    return math.log1p(2.0 * t / (1.0 - t)) / omega if t < 1.0 else math.inf

@@ -7,6 +7,7 @@ the offending quantity and what is allowed.
 from __future__ import annotations
 
 import math
+import numbers
 
 
 class NonPhysicalProfile(ValueError):
@@ -33,3 +34,16 @@ def check_positive(name: str, value) -> float:
     if value <= 0.0:
         raise ValueError(f"{name} must be > 0, got {value!r}")
     return value
+
+
+def check_integer(name: str, value, low: int = 1, high: int = 2**53) -> int:
+    """Return ``value`` as an int, or raise unless it is an integer in [low, high].
+
+    bools, non-integral or non-finite floats and strings are refused; an integral float
+    (``10.0``) is accepted.
+    """
+    integral = isinstance(value, numbers.Integral) or (isinstance(value, float) and math.isfinite(value)
+                                                        and value.is_integer())
+    if isinstance(value, bool) or not integral or not low <= value <= high:
+        raise ValueError(f"{name} must be an integer in [{low}, {high:.6g}], got {value!r}")
+    return int(value)

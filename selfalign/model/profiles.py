@@ -10,6 +10,7 @@ closed form.  The Fourier profile of Sect. 4.4.2 is smooth.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -32,6 +33,11 @@ class Profile:
 
     @property
     def max_abs_acceleration(self) -> float:
+        raise NotImplementedError
+
+    @property
+    def velocity_swing(self) -> float:
+        """max y' - min y': the velocity scale of the motion (|x'| <= it in steady state)."""
         raise NotImplementedError
 
     def params(self) -> dict:
@@ -67,11 +73,23 @@ class PiecewiseConstantProfile(Profile):
         self.accels = accels[keep]
         self.dt = float(self.breaks[-1] - self.breaks[0])
         lengths = np.diff(self.breaks)
+        # The table velocity is periodic only if y'' has zero mean: each break is known to
+        # ~eps dt, so sum a_i L_i may differ from 0 by that much times sum |a_i|.
+        impulse = float(np.sum(self.accels * lengths))
+        allowed = 16.0 * np.finfo(float).eps * self.dt * float(np.sum(np.abs(self.accels)))
+        if not abs(impulse) <= allowed:
+            raise ValueError(f"y'' must average to zero over the period (else the table velocity drifts by "
+                             f"sum(accels * lengths) = {impulse:.6g} per period); got breaks {self.breaks.tolist()} "
+                             f"and accels {self.accels.tolist()}")
         # y' and y at the start of every piece (and at the end of the period).
-        vel = yd_start + np.concatenate([[0.0], np.cumsum(self.accels * lengths)])
-        pos = y_start + np.concatenate(
-            [[0.0], np.cumsum(vel[:-1] * lengths + 0.5 * self.accels * lengths**2)]
-        )
+        with np.errstate(over="ignore", invalid="ignore"):
+            vel = yd_start + np.concatenate([[0.0], np.cumsum(self.accels * lengths)])
+            pos = y_start + np.concatenate(
+                [[0.0], np.cumsum(vel[:-1] * lengths + 0.5 * self.accels * lengths**2)]
+            )
+        if not (np.all(np.isfinite(vel)) and np.all(np.isfinite(pos))):
+            raise ValueError(f"the table motion overflows double precision (velocities {vel.tolist()}, positions "
+                             f"{pos.tolist()}); choose smaller accelerations or a shorter period")
         self.piece_velocity = vel
         self.piece_position = pos
 
@@ -83,6 +101,10 @@ class PiecewiseConstantProfile(Profile):
     @property
     def max_abs_acceleration(self) -> float:
         return float(np.max(np.abs(self.accels)))
+
+    @property
+    def velocity_swing(self) -> float:
+        return float(np.ptp(self.piece_velocity))
 
     def piece_index(self, tau):
         """Index of the piece holding phase ``tau`` (right-continuous)."""
@@ -184,6 +206,13 @@ class ThreePhaseProfile(PiecewiseConstantProfile):
                 f"need dy <= dt^2 / (8 (1/y2 + 1/y3)) = {dt * dt / (8 * (1 / y2 + 1 / y3)):.6g}"
             )
         sol = three_phase_times(dt, dy, y2, y3)
+        lengths = {"t1": float(sol.t1), "t2 - t1": float(sol.t2 - sol.t1), "dt - t2": float(dt - sol.t2)}
+        bad = [f"{name} = {value!r}" for name, value in lengths.items()
+               if not math.isfinite(value) or (value <= 0.0 and name != "t1") or value < 0.0]
+        if bad:
+            raise ValueError(f"three-phase profile dt = {dt!r}, dy = {dy!r}, y2 = {y2!r}, y3 = {y3!r} is beyond "
+                             f"double precision: {', '.join(bad)} (every acceleration phase must keep a positive "
+                             f"length)")
         self.dy, self.y2, self.y3 = float(dy), float(y2), float(y3)
         self.t0 = 0.0
         self.t1, self.t2, self.t3 = float(sol.t1), float(sol.t2), float(dt)
@@ -269,14 +298,19 @@ class FourierProfile(Profile):
     switch_times = np.empty(0)
 
     def _derivative(self, t, n: int):
-        """n-th time derivative of y at t (vectorised)."""
+        """n-th time derivative of y at t (vectorised).
+
+        Summed harmonic by harmonic in a fixed order with elementwise numpy (no matrix
+        product, which would go through BLAS and round differently on other CPUs).
+        """
         t = np.asarray(t, dtype=float)
-        arg = np.multiply.outer(t, self.omega)
-        scale = self.omega**n
-        # d^n/dt^n cos = omega^n cos(arg + n pi/2); same shift for sin.
-        shift = n * np.pi / 2
-        return (np.cos(arg + shift) @ (self.cos_coeffs * scale)
-                + np.sin(arg + shift) @ (self.sin_coeffs * scale))
+        total = np.zeros(t.shape)
+        for a, b, w in zip(self.cos_coeffs.tolist(), self.sin_coeffs.tolist(), self.omega.tolist()):
+            c, s = np.cos(w * t), np.sin(w * t)
+            # d^n/dt^n of a cos + b sin, n = 0..3: the pair rotates by a quarter turn per derivative.
+            value = ((a * c + b * s), (b * c - a * s), -(a * c + b * s), -(b * c - a * s))[n % 4]
+            total = total + w**n * value
+        return total
 
     def position(self, t):
         return self._derivative(t, 0)
@@ -324,6 +358,11 @@ class FourierProfile(Profile):
     @property
     def max_abs_acceleration(self) -> float:
         return self.peak_acceleration
+
+    @property
+    def velocity_swing(self) -> float:
+        lo, hi = self._extremes(1)
+        return hi - lo
 
     def params(self) -> dict:
         return {"kind": self.kind, "dt": self.dt, "cos_coeffs": self.cos_coeffs.tolist(),

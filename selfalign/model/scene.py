@@ -9,13 +9,17 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from .errors import SceneError, check_finite
+from .errors import SceneError, check_finite, check_integer
 from .friction import StopZone, Uniform
 from .profiles import Profile
 from .units import SIScale
 
 #: Series a scene may ask to record; "t" comes with any of them.
 SERIES = ("x", "v", "y", "yd", "ydd", "friction", "mode")
+#: Largest number of dense-output samples per period.
+MAX_SAMPLES_PER_PERIOD = 10_000_000
+#: A recording larger than this (bytes, estimated before the run) is refused.
+RECORD_MEMORY_LIMIT = 2 * 1024**3
 METHODS = ("exact", "moreau", "ivp")
 
 
@@ -31,14 +35,21 @@ class Record:
     series: tuple[str, ...] = ()
     samples_per_period: int = 200
     events: bool = False
+    arcs: bool = False
     rerun: bool = False
 
     def __post_init__(self):
         unknown = [s for s in self.series if s not in SERIES]
         if unknown:
             raise SceneError(f"record.series: unknown series {unknown}; allowed: {list(SERIES)}")
-        if int(self.samples_per_period) < 2:
-            raise SceneError(f"record.samples_per_period must be >= 2, got {self.samples_per_period!r}")
+        try:
+            spp = check_integer("record.samples_per_period", self.samples_per_period, 2, MAX_SAMPLES_PER_PERIOD)
+        except ValueError as exc:
+            raise SceneError(str(exc)) from None
+        object.__setattr__(self, "samples_per_period", spp)
+        for key in ("events", "arcs", "rerun"):
+            if not isinstance(getattr(self, key), bool):
+                raise SceneError(f"record.{key} must be true or false, got {getattr(self, key)!r}")
         if self.rerun and not self.series:
             raise SceneError("record.rerun needs at least one entry in record.series")
 
@@ -87,15 +98,26 @@ class Scene:
         until = self.until or ("periods" if self.periods is not None else None)
         if until not in ("periods", "rest"):
             raise SceneError(f"horizon: give periods=N or until='rest', got until={self.until!r}")
-        if until == "periods" and (self.periods is None or int(self.periods) < 1 or self.periods != int(self.periods)):
-            raise SceneError(f"horizon.periods must be an integer >= 1, got {self.periods!r}")
         if until == "rest" and self.periods is not None:
             raise SceneError("horizon: periods and until='rest' exclude each other; use max_periods")
-        if int(self.max_periods) < 1:
-            raise SceneError(f"horizon.max_periods must be >= 1, got {self.max_periods!r}")
+        try:
+            if until == "periods":
+                object.__setattr__(self, "periods", check_integer("horizon.periods", self.periods))
+            object.__setattr__(self, "max_periods", check_integer("horizon.max_periods", self.max_periods))
+        except ValueError as exc:
+            raise SceneError(str(exc)) from None
         object.__setattr__(self, "until", until)
         if self.method not in METHODS:
             raise SceneError(f"solver.method must be one of {list(METHODS)}, got {self.method!r}")
+        if not isinstance(self.solver_options, dict):
+            raise SceneError(f"solver.options must be a mapping, got {type(self.solver_options).__name__}")
+        if self.record.dense:
+            size = self.horizon_periods * self.record.samples_per_period * (1 + len(self.record.series)) * 8
+            if size > RECORD_MEMORY_LIMIT:
+                raise SceneError(f"record: {len(self.record.series)} series at {self.record.samples_per_period} "
+                                 f"samples per period over {self.horizon_periods} periods need about "
+                                 f"{size / 1024**3:.3g} GiB, more than the {RECORD_MEMORY_LIMIT / 1024**3:g} GiB "
+                                 "allowed; record fewer periods or samples")
 
     @property
     def horizon_periods(self) -> int:
@@ -120,7 +142,8 @@ class Scene:
         out["solver"] = {"method": self.method, "options": dict(self.solver_options)}
         out["record"] = {"series": list(self.record.series),
                          "samples_per_period": int(self.record.samples_per_period),
-                         "events": bool(self.record.events), "rerun": bool(self.record.rerun)}
+                         "events": bool(self.record.events), "arcs": bool(self.record.arcs),
+                         "rerun": bool(self.record.rerun)}
         if self.si is not None:
             out["si"] = {"mu": self.si.mu, "g": self.si.g, "L": self.si.L}
         return out

@@ -1,13 +1,13 @@
-"""Mode-switching integration with scipy.integrate.solve_ivp: the baseline a user would write.
+"""Mode-switching integration with scipy.integrate.solve_ivp (``method="ivp"``): the baseline a user would write.
 
 The inclusion x'' + y''(t) in -mu_bar(x) Sign(x') (eqs. 6, 38) is integrated one smooth
-piece at a time in the current mode (DESIGN):
+piece at a time in the current mode:
 
 * forward slip (v > 0):  x'' = -y'' - mu_bar(x);  backward slip (v < 0): x'' = -y'' + mu_bar(x);
 * stick (v = 0): x'' = 0.
 
-A piece ends at a profile switch time (piecewise-constant profiles), at the period end,
-or at a terminal event located by solve_ivp:
+A piece ends at a profile switch time (piecewise-constant profiles), at a period boundary
+(the start phase), or at a terminal event located by solve_ivp:
 
 * v = 0, direction-aware (only crossings against the slip direction count);
 * x = x_mu and x = x_mu + w, where mu_bar has a kink (StopZone), direction-aware so the
@@ -17,42 +17,34 @@ or at a terminal event located by solve_ivp:
   that no crossing of the trigonometric polynomial is stepped over.  On piecewise-constant
   profiles stick is left at the first piece with |y''| > mu_bar, without integration.
 
-At v = 0 the mode is decided like the model: stick iff |y''| <= mu_bar (ties stick), else
-slip in the direction -sign(y'').  Velocities are set to exactly 0 at v = 0 events and
-positions exactly onto a zone boundary at zone events.
+At v = 0 the mode is decided like the model (:func:`selfalign.model.friction.decide_mode`).
+Velocities are set to exactly 0 at v = 0 events and positions exactly onto a zone
+boundary at zone events.
 
-Outcomes: HORIZON; REST when the mass sticks where mu_bar(x) >= max|y''| (with
-until="periods" the rest of the horizon is then skipped: nothing moves any more); ERROR
-with solve_ivp's message if it fails, when more than ``max_events`` events are needed
-("accumulation cannot be resolved by event location"), or when the event loop stalls
-(more than 100 successive events without time advancing).  With until="rest" and no rest
-within max_periods the status is HORIZON with a message: this baseline does not classify
-accumulation or periodic motion (see the exact and Moreau solvers).
-
-Time is kept as (period index, tau in [0, dt)); solve_ivp integrates in tau.  Dense output
-samples the solve_ivp dense output on a uniform grid of ``samples_per_period`` points per
-period starting at the start time, plus every event (post-event state).
+The outcome decisions are those of every method, made by the compiled driver's own
+functions (:mod:`selfalign.solvers.kernel`: REST and ACCUMULATION at stick events, the
+period-boundary cycle tests, the horizon); this module only steps.  Event location at a
+finite tolerance rarely repeats a period-boundary state to the driver's tolerance, so a
+periodic motion inside the zone usually ends with HORIZON (reason BOUNDED) here.  The
+event budget ``max_events`` bounds an accumulation, whose infinitely many ever shorter
+slips event location cannot resolve (ERROR, reason MAX_EVENTS), and a stalled event loop
+is an ERROR too.  Dense output samples solve_ivp's dense output on a uniform grid of
+``samples_per_period`` points per period from the start time, plus every event.
 """
 
 from __future__ import annotations
 
 import math
-import numbers
-import time
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
-from ..model.friction import StopZone
-from .outcomes import (BACKWARD_SLIP, EVENT_DTYPE, FORWARD_SLIP, STICK, EventKind, Status,
-                          Trajectory)
-from .moreau import friction_function, model_series, reference_origin
+from ..model.friction import StopZone, coefficient, decide_mode
+from . import records as R
+from .jit import call, kernel
+from .outcomes import MAX_CYCLE, STALL_EVENTS, EventKind, LOW, ZONE, HIGH, Reason
 
-INTEGRATORS = ("RK23", "RK45", "DOP853", "Radau", "BDF", "LSODA")
-#: Default bound on the number of events (option ``max_events`` if the lead adds it).
-MAX_EVENTS = 1_000_000
-#: Successive events without time advancing that count as a stalled event loop.
-STALL_EVENTS = 100
+#: Kernel stepper results the ivp loop produces (see :mod:`selfalign.solvers.kernel`).
+_DONE, _STOP_BUDGET, _STOP_STALL = 0, 4, 5
 
 
 def _event(fun, direction):
@@ -60,42 +52,26 @@ def _event(fun, direction):
     return fun
 
 
-def _options(options):
-    rtol, atol = options.get("rtol", 1e-8), options.get("atol", 1e-10)
-    for name, value in (("rtol", rtol), ("atol", atol)):
-        if isinstance(value, bool) or not isinstance(value, numbers.Real) or not 0 < value < math.inf:
-            raise ValueError(f"option {name} must be a finite number > 0, got {value!r}")
-    integrator = options.get("integrator", "DOP853")
-    if integrator not in INTEGRATORS:
-        raise ValueError(f"option integrator must be one of {list(INTEGRATORS)}, got {integrator!r}")
-    max_events = options.get("max_events", MAX_EVENTS)
-    if isinstance(max_events, bool) or not isinstance(max_events, numbers.Integral) or max_events < 1:
-        raise ValueError(f"option max_events must be an integer >= 1, got {max_events!r}")
-    return float(rtol), float(atol), integrator, int(max_events)
-
-
 class _Run:
-    """State of one event-driven run: (period, tau, x relative, v, mode)."""
+    """State of one event-driven run: time (period p, tau), x relative to the origin, v, mode."""
 
-    def __init__(self, scene, rtol, atol, integrator):
+    def __init__(self, scene, options, members, origin):
         self.scene = scene
         self.profile = profile = scene.profile
         self.dt = profile.dt
         self.surface = scene.surface
-        self.rtol, self.atol, self.integrator = rtol, atol, integrator
-        self.mu_bar = friction_function(scene.surface)
-        self.max_acc = float(profile.max_abs_acceleration)
+        self.zone = isinstance(scene.surface, StopZone)
+        self.rtol, self.atol, self.integrator = options["rtol"], options["atol"], options["integrator"]
         self.piecewise = profile.piecewise_constant
         if self.piecewise:
-            self.switches = set(profile.breaks[1:].tolist())
+            self.switches = set(profile.breaks[1:].tolist())      # the period end is a switch too
         else:
             self.stick_max_step = self.dt / (16 * getattr(profile, "order", 1))
-        self.x_ref = reference_origin(scene)
+        self.origin = origin
         self.tau0 = scene.phase * self.dt
-        self.end_period = scene.horizon_periods
-        self.period, self.tau = 0, self.tau0
-        self.x, self.v = scene.x0 - self.x_ref, scene.v0
-        self.mode = self.decide(self.tau, self.x, self.v)
+        self.p, self.tau = 0, self.tau0
+        self.x, self.v = float(members[0]["xi"]), float(members[0]["v"])
+        self.mode = int(members[0]["mode"])
         self.events = []
         self.n_events = 0
         self.stalled, self.last_event = 0, None
@@ -107,8 +83,15 @@ class _Run:
         grid = np.mod(self.tau0 + np.arange(spp) * (self.dt / spp), self.dt)
         self.grid = np.sort(np.where(grid == 0.0, self.dt, grid))
         self.samples = [(0, self.tau, self.x, self.v)] if self.dense else []
+        # The period since the last boundary: start state, extremes, regions visited.
+        self.boundary_x = self.x
+        self.lo = self.hi = 0.0
+        self.regions = 0
 
     # -- the model --------------------------------------------------------------------
+    def mu_bar(self, x):
+        return coefficient(x, self.surface.w, self.surface.c_mu) if self.zone else 1.0
+
     def acceleration(self, tau):
         """y''(tau), right-continuous at switch times."""
         if self.piecewise:
@@ -116,95 +99,109 @@ class _Run:
         return float(self.profile.acceleration(tau))
 
     def decide(self, tau, x, v):
-        """Mode at (tau, x, v): sign(v), or at v = 0 stick iff |y''| <= mu_bar, else slip -sign(y'')."""
+        """Mode at (tau, x, v): sign(v), or at v = 0 the stick/slip rule of the model."""
         if v != 0.0:
-            return FORWARD_SLIP if v > 0 else BACKWARD_SLIP
-        a = self.acceleration(tau)
-        if abs(a) <= self.mu_bar(x):
-            return STICK
-        return BACKWARD_SLIP if a > 0 else FORWARD_SLIP
+            return 1 if v > 0 else -1
+        return decide_mode(self.acceleration(tau), self.mu_bar(x))
+
+    def xdd(self, tau, x, mode):
+        return 0.0 if mode == 0 else -self.acceleration(tau) - mode * self.mu_bar(x)
+
+    def region(self, x0, x1):
+        if not self.zone or max(x0, x1) <= 0.0:
+            return LOW
+        return HIGH if min(x0, x1) >= self.surface.w else ZONE
 
     # -- bookkeeping -------------------------------------------------------------------
-    @property
-    def finished(self):
-        return self.period > self.end_period or (self.period == self.end_period and self.tau >= self.tau0)
-
     def segment_end(self):
-        """End of the smooth piece holding tau: next switch time, period end, or horizon end."""
+        """End of the smooth piece holding tau: next switch, the period boundary tau0, or dt."""
+        end = self.dt
         if self.piecewise:
-            breaks = self.profile.breaks
-            end = float(breaks[self.profile.piece_index(self.tau) + 1])
-        else:
-            end = self.dt
-        if self.period == self.end_period:
-            end = min(end, self.tau0)
+            end = float(self.profile.breaks[self.profile.piece_index(self.tau) + 1])
+        if self.tau < self.tau0 < end:
+            end = self.tau0
         return end
 
-    def log(self, kind):
+    def log(self, kind, mode_before):
         """Count (and record) an event at the current time and state."""
         self.n_events += 1
-        now = (self.period, self.tau)
+        now = (self.p, self.tau)
         self.stalled = self.stalled + 1 if now == self.last_event else 0
         self.last_event = now
         if self.scene.record.events:
-            self.events.append((int(kind), self.period, self.tau, self.x_ref + self.x, self.v, self.mode))
+            self.events.append((int(kind), self.p, self.tau, self.x, self.v, mode_before, self.mode,
+                                self.xdd(self.tau, self.x, mode_before), self.xdd(self.tau, self.x, self.mode)))
 
     def sample(self, tau_a, tau_b, state_at):
         """Grid samples of the current period in (tau_a, tau_b]."""
         if self.dense:
             g = self.grid[(self.grid > tau_a) & (self.grid <= tau_b)]
-            if self.period == 0:
-                g = g[g > self.tau0]
-            if self.period == self.end_period:
-                g = g[g <= self.tau0]
             if g.size:
                 xs, vs = state_at(g)
                 wrap = g >= self.dt
-                self.samples.extend(zip(self.period + wrap, np.where(wrap, 0.0, g), xs, vs))
+                self.samples.extend(zip(self.p + wrap, np.where(wrap, 0.0, g), xs, vs))
+
+    def moved(self, x0, x1):
+        self.regions |= 1 << self.region(x0, x1)
+        d = x1 - self.boundary_x
+        self.lo, self.hi = min(self.lo, d), max(self.hi, d)
 
     def set_time(self, tau):
         """Move the clock to ``tau`` of the current period; tau = dt is the next period's start."""
-        self.period, self.tau = (self.period + 1, 0.0) if tau >= self.dt else (self.period, tau)
+        self.p, self.tau = (self.p + 1, 0.0) if tau >= self.dt else (self.p, tau)
+
+    def at_boundary(self):
+        return self.tau == self.tau0 and self.p > 0
+
+    def record_event_sample(self):
+        """Sample the post-event state (replacing a grid sample at the same time)."""
+        if self.dense:
+            if self.samples and self.samples[-1][:2] == (self.p, self.tau):
+                self.samples.pop()
+            self.samples.append((self.p, self.tau, self.x, self.v))
 
     # -- one piece ---------------------------------------------------------------------
-    def step(self):
-        """Integrate one smooth piece (or up to the first event in it); None or (status, message)."""
+    def step(self, stick):
+        """Integrate one smooth piece (or up to the first event in it).  ``stick(x, mu)``
+        reports a stick event to the driver and returns its stop code.  Returns a stop
+        code, or (reason, detail) when solve_ivp fails."""
         tau_a, tau_b = self.tau, self.segment_end()
-        if self.mode == STICK:
-            if self.mu_bar(self.x) >= self.max_acc:
-                return Status.REST, None
+        if self.mode == 0:
             return self.stick(tau_a, tau_b)
-        return self.slip(tau_a, tau_b)
+        return self.slip(tau_a, tau_b, stick)
 
-    def end_piece(self, tau_b):
-        """Stay stuck to the piece end."""
-        x = self.x
-        self.sample(self.tau, tau_b, lambda g: (np.full(g.size, x), np.zeros(g.size)))
-        self.finish_piece(tau_b)
-
-    def finish_piece(self, tau_b):
-        """Clock to the piece end; a profile switch there is an event."""
+    def finish_piece(self, tau_b, stick):
+        """Clock to the piece end; a profile switch there is an event, which at v = 0
+        re-decides the mode with the new piece's y''."""
         self.set_time(tau_b)
         if self.piecewise and tau_b in self.switches:
-            # y'' jumps: at v = 0 the new piece decides between stick and slip.
+            before = self.mode
             if self.v == 0.0:
                 self.mode = self.decide(self.tau, self.x, 0.0)
-            self.log(EventKind.SWITCH)
+            self.log(EventKind.SWITCH, before)
             self.record_event_sample()
+            if before != 0 and self.mode == 0:
+                return stick(self.x, self.mu_bar(self.x))
+        return _DONE
 
     def stick(self, tau_a, tau_b):
+        from scipy.integrate import solve_ivp
+
+        x = self.x
         if self.piecewise:
             # Stick persists through this piece (decided at its start).
-            self.end_piece(tau_b)
-            return None
-        mu = self.mu_bar(self.x)
-        sol = solve_ivp(lambda t, y: (0.0, 0.0), (tau_a, tau_b), [self.x, 0.0], method=self.integrator,
+            self.sample(tau_a, tau_b, lambda g: (np.full(g.size, x), np.zeros(g.size)))
+            self.moved(x, x)
+            return self.finish_piece(tau_b, None)
+        mu = self.mu_bar(x)
+        sol = solve_ivp(lambda t, y: (0.0, 0.0), (tau_a, tau_b), [x, 0.0], method=self.integrator,
                         rtol=self.rtol, atol=self.atol, max_step=self.stick_max_step,
                         events=[_event(lambda t, y: self.acceleration(t) - mu, 1),
                                 _event(lambda t, y: self.acceleration(t) + mu, -1)])
         self.count(sol)
         if sol.status == -1:
-            return Status.ERROR, f"solve_ivp failed in stick at period {self.period}, tau {tau_a!r}: {sol.message}"
+            return Reason.SOLVER_FAILED, f"solve_ivp failed in stick at period {self.p}, tau {tau_a!r}: {sol.message}"
+        self.moved(x, x)
         if sol.status == 1:
             which = 0 if sol.t_events[0].size else 1
             tau_e = float(sol.t_events[which][0])
@@ -213,26 +210,28 @@ class _Run:
                 if abs(self.acceleration(tau_e)) > mu or tau_e >= tau_b:
                     break
                 tau_e = math.nextafter(tau_e, math.inf)
-            self.sample(tau_a, tau_e, lambda g: (np.full(g.size, self.x), np.zeros(g.size)))
-            self.mode = BACKWARD_SLIP if which == 0 else FORWARD_SLIP
+            self.sample(tau_a, tau_e, lambda g: (np.full(g.size, x), np.zeros(g.size)))
+            self.mode = -1 if which == 0 else 1
             self.set_time(tau_e)
-            self.log(EventKind.SLIP)
+            self.log(EventKind.SLIP, 0)
             self.record_event_sample()
-            return None
-        self.end_piece(tau_b)
-        return None
+            return _DONE
+        self.sample(tau_a, tau_b, lambda g: (np.full(g.size, x), np.zeros(g.size)))
+        return self.finish_piece(tau_b, None)
 
-    def slip(self, tau_a, tau_b):
+    def slip(self, tau_a, tau_b, stick):
+        from scipy.integrate import solve_ivp
+
         s = float(self.mode)
         mu_bar = self.mu_bar
         if self.piecewise:
             a = self.acceleration(tau_a)
-            rhs = lambda t, y: (y[1], -a - s * mu_bar(y[0]))
+            rhs = lambda t, y: (y[1], -a - s * mu_bar(y[0]))  # noqa: E731
         else:
             acc = self.acceleration
-            rhs = lambda t, y: (y[1], -acc(t) - s * mu_bar(y[0]))
+            rhs = lambda t, y: (y[1], -acc(t) - s * mu_bar(y[0]))  # noqa: E731
         events = [_event(lambda t, y: y[1], -s)]
-        bounds = (0.0, self.surface.w) if isinstance(self.surface, StopZone) else ()
+        bounds = (0.0, self.surface.w) if self.zone else ()
         for b in bounds:
             side = -1.0 if (self.x > b or (self.x == b and s > 0)) else 1.0
             events.append(_event(lambda t, y, b=b: y[0] - b, side))
@@ -240,97 +239,124 @@ class _Run:
                         atol=self.atol, events=events, dense_output=self.dense)
         self.count(sol)
         if sol.status == -1:
-            return Status.ERROR, f"solve_ivp failed in slip at period {self.period}, tau {tau_a!r}: {sol.message}"
+            return Reason.SOLVER_FAILED, f"solve_ivp failed in slip at period {self.p}, tau {tau_a!r}: {sol.message}"
+        x0 = self.x
         if sol.status == 1:
             which = next(i for i, te in enumerate(sol.t_events) if te.size)
             tau_e = float(sol.t_events[which][0])
             x_e, v_e = (float(c) for c in sol.y_events[which][0])
             self.sample(tau_a, tau_e, lambda g: sol.sol(g))
             self.set_time(tau_e)
+            before = self.mode
             if which == 0:
                 self.x, self.v = x_e, 0.0
                 self.mode = self.decide(self.tau, x_e, 0.0)
-                self.log(EventKind.STICK if self.mode == STICK else EventKind.REVERSAL)
+                self.log(EventKind.STICK if self.mode == 0 else EventKind.REVERSAL, before)
             else:
                 self.x, self.v = bounds[which - 1], v_e
-                self.log(EventKind.ZONE)
+                self.log(EventKind.ZONE, before)
+            self.moved(x0, self.x)
             self.record_event_sample()
-            return None
+            if which == 0 and self.mode == 0:
+                return stick(self.x, self.mu_bar(self.x))
+            return _DONE
         self.sample(tau_a, tau_b, lambda g: sol.sol(g))
         self.x, self.v = float(sol.y[0, -1]), float(sol.y[1, -1])
-        self.finish_piece(tau_b)
-        return None
+        self.moved(x0, self.x)
+        return self.finish_piece(tau_b, stick)
 
     def count(self, sol):
         self.stats["steps"] += sol.t.size - 1
         self.stats["nfev"] += sol.nfev
         self.stats["ivp_calls"] += 1
 
-    def record_event_sample(self):
-        """Sample the post-event state (replacing a grid sample at the same time)."""
-        if self.dense:
-            if self.samples[-1][:2] == (self.period, self.tau):
-                self.samples.pop()
-            self.samples.append((self.period, self.tau, self.x, self.v))
 
-    def rest_of_horizon(self):
-        """Stuck for good in a horizon run: fill the remaining samples and jump to the end."""
-        if self.dense:
-            x = self.x
-            while not self.finished:
-                tau_b = self.dt if self.period < self.end_period else self.tau0
-                self.sample(self.tau, tau_b, lambda g: (np.full(g.size, x), np.zeros(g.size)))
-                self.set_time(tau_b)
-        self.period, self.tau = self.end_period, self.tau0
+def solve(scene, options: dict, cpu0: float):
+    """Simulate ``scene`` by mode switching with solve_ivp (module docstring); the outcome
+    decisions are the compiled driver's."""
+    import time
 
+    from .driver import _scene_member, _trajectory
 
-def solve(scene, options: dict) -> Trajectory:
-    """Simulate ``scene`` by mode switching with solve_ivp (see the module docstring)."""
-    rtol, atol, integrator, max_events = _options(options)
-    cpu0 = time.process_time()
-    run = _Run(scene, rtol, atol, integrator)
-    status, message = Status.HORIZON, ""
-    while not run.finished:
-        outcome = run.step()
-        if outcome is not None:
-            status, message = outcome
-            if status is Status.REST:
-                if scene.until == "rest":
-                    x = run.x_ref + run.x
-                    message = (f"at rest for good: stuck at x = {x!r} where mu_bar = {run.mu_bar(run.x)!r} "
-                               f">= max|y''| = {run.max_acc!r}")
-                    break
-                status = Status.HORIZON
-                run.rest_of_horizon()
-                continue
+    K = kernel()
+    profile = scene.profile
+    members, origin = _scene_member(scene)
+    amax = float(profile.max_abs_acceleration)
+    row = np.array(R.profile_header(profile.dt, amax, profile.velocity_swing, amax))
+    until = R.UNTIL_CODES[scene.until]
+    total = scene.horizon_periods
+    a0 = float(profile.acceleration(scene.phase * profile.dt))
+    code = call(K.begin_entry, members, row, -1, options["accumulation_tol"], a0, until)
+    run = _Run(scene, options, members, origin)
+    hist = R.records(R.HIST_DTYPE, MAX_CYCLE)
+    count, reason, detail = 0, -1, ""
+    s = members[0]
+
+    def stick(x, mu):
+        return int(call(K.stick_entry, members, x, mu, run.p, run.tau, until))
+
+    def stop(code_):
+        s["xi"], s["v"], s["mode"] = run.x, run.v, run.mode
+        s["stop_n"], s["stop_tau"] = (run.p, run.tau)
+        return code_
+
+    while code == _DONE and (run.p, run.tau) < (total, run.tau0):    # the horizon is (total, tau0)
+        out = run.step(stick)
+        if isinstance(out, tuple):
+            reason, detail = int(out[0]), out[1]
+            stop(_DONE)
+            s["stop_n"], s["stop_tau"] = run.p, run.tau
             break
-        if run.n_events > max_events:
-            status = Status.ERROR
-            message = (f"stopped after {run.n_events} events (max_events = {max_events}) at period "
-                       f"{run.period}: accumulation cannot be resolved by event location")
+        call(K.moved_entry, members, s["xi"], run.x)
+        s["xi"] = run.x
+        if out != _DONE:
+            code = stop(out)
+            break
+        if run.n_events > options["max_events"]:
+            code = stop(_STOP_BUDGET)
             break
         if run.stalled > STALL_EVENTS:
-            status = Status.ERROR
-            message = (f"event loop stalled: {run.stalled} successive events at period {run.period}, "
-                       f"tau {run.tau!r} without time advancing")
+            code = stop(_STOP_STALL)
             break
-    if status is Status.HORIZON:
-        message = f"simulated {run.period} periods (solve_ivp {integrator}, rtol={rtol!r}, atol={atol!r})"
-        if scene.until == "rest":
-            message = (f"not at rest after max_periods = {scene.horizon_periods} periods; the ivp baseline "
-                       f"does not classify accumulation or periodic motion")
-    series = {}
+        if run.at_boundary():
+            v0, mode0, xi0, path0 = s["v"], s["mode"], run.boundary_x, s["path"]
+            s["xi"], s["v"], s["mode"], s["n"] = run.x, run.v, run.mode, run.p
+            s["dxp"], s["lo"], s["hi"], s["regions"] = run.x - run.boundary_x, run.lo, run.hi, run.regions
+            # Skipping repeating periods (as the compiled steppers do) is allowed when nothing is
+            # recorded, or for a mass at rest for good when only series are: their samples are
+            # filled in.  Never while the event log is kept.
+            skip = not (run.dense or scene.record.events) or (bool(s["at_rest"]) and not scene.record.events)
+            reason, count, horizon = call(K.after_period_entry, members, hist, count, MAX_CYCLE,
+                                          float(row[R.SWING]), until, total, skip, v0, mode0, xi0, path0)
+            if int(s["n"]) != run.p:                 # fast-forward (stuck for good)
+                _fill_stuck(run, int(s["n"]))
+                run.p, run.x = int(s["n"]), float(s["xi"])
+            run.boundary_x, run.lo, run.hi, run.regions = run.x, 0.0, 0.0, 0
+            if reason >= 0 or horizon:
+                break
+    if reason < 0 and code == _DONE:
+        s["xi"], s["v"], s["mode"], s["n"] = run.x, run.v, run.mode, run.p
+    call(K.finish_entry, members, code, reason, until)
+    samples = None
     if run.dense:
-        if run.samples[-1][:2] != (run.period, run.tau):
-            run.samples.append((run.period, run.tau, run.x, run.v))
+        end = (int(s["n_end"]), float(s["tau_end"]), float(s["xi"]), float(s["v"]))
+        if not run.samples or run.samples[-1][:2] != end[:2]:
+            run.samples.append(end)
+        samples = np.zeros(len(run.samples), dtype=R.SAMPLE_DTYPE)
         arr = np.array(run.samples, dtype=float).reshape(-1, 4)
-        series = model_series(scene, scene.record.series, arr[:, 0], arr[:, 1], arr[:, 2], arr[:, 3], run.x_ref)
-    events = np.array(run.events, dtype=EVENT_DTYPE) if scene.record.events else None
-    info = {}
-    if isinstance(scene.surface, StopZone):
-        info["x_stick_min"] = scene.surface.x_stick_min(run.max_acc)
-    return Trajectory(
-        x_end=float(run.x_ref + run.x), v_end=float(run.v), period_end=int(run.period), tau_end=float(run.tau),
-        status=status, message=message, method="ivp", options=dict(options), series=series, events=events,
-        stats={"events": run.n_events, "cpu_time": time.process_time() - cpu0, **run.stats}, info=info,
-    )
+        samples["period"], samples["tau"], samples["x"], samples["v"] = arr[:, 0], arr[:, 1], arr[:, 2], arr[:, 3]
+    events = np.array(run.events, dtype=R.EVENT_DTYPE) if scene.record.events else None
+    traj = _trajectory(scene, "ivp", options, -1, row, members[0], origin, None, events, samples,
+                       time.process_time() - cpu0, detail)
+    traj.stats.update(run.stats, events=run.n_events)
+    return traj
+
+
+def _fill_stuck(run, n_end):
+    """Dense samples of a mass stuck for good from the current boundary up to period n_end."""
+    if run.dense:
+        x = run.x
+        while run.p < n_end:
+            run.sample(run.tau0, run.dt, lambda g: (np.full(g.size, x), np.zeros(g.size)))
+            run.p += 1
+            run.sample(0.0, run.tau0, lambda g: (np.full(g.size, x), np.zeros(g.size)))

@@ -1,28 +1,122 @@
-"""The result of a simulation: one object with a status and a message.
+"""One vocabulary for how every run ends, scalar and batch, for every method.
 
-Like scipy's ``OdeResult``: the end state is always there; dense series and
-the event log only when the scene asked for them.
+A run ends for one :class:`Reason`; each reason belongs to one :class:`Status` and has
+one message template (:data:`MESSAGES`).  The compiled driver writes reason codes, the
+Python results (:class:`~selfalign.solvers.results.Trajectory`,
+:class:`~selfalign.solvers.results.BatchResult`) turn them into a status and a message
+with :func:`message`.  Nothing here imports numba.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-from enum import Enum
-
-import numpy as np
+from enum import Enum, IntEnum
 
 
 class Status(str, Enum):
     """How a run ended."""
 
-    HORIZON = "horizon"            #: the requested number of periods was simulated
+    HORIZON = "horizon"            #: the requested horizon was simulated, or no final outcome within max_periods
     REST = "rest"                  #: stuck where mu_bar(x) >= max|y''|: at rest for good
     ACCUMULATION = "accumulation"  #: stick positions converge geometrically to a limit
-    NEVER_STOPS = "never_stops"    #: keeps moving without coming to rest (periodic or walking through)
+    NEVER_STOPS = "never_stops"    #: keeps moving without coming to rest (periodic or walking)
     ERROR = "error"                #: the solver could not continue; see message
 
 
-class EventKind(int, Enum):
+class Reason(IntEnum):
+    """Why a run ended: the detail behind its :class:`Status` (codes stored in results)."""
+
+    PERIODS = 0        #: HORIZON: until='periods', the requested periods were simulated
+    MAX_PERIODS = 1    #: HORIZON: until='rest', max_periods reached outside the stop zone (or on a uniform surface)
+    BOUNDED = 2        #: HORIZON: until='rest', max_periods reached after entering the zone, no outcome, no cycle
+    FIRST_STICK = 3    #: HORIZON: until='stick', the first stick event
+    REST = 4           #: REST: a stick where mu_bar(x) >= max|y''|
+    ACCUMULATION = 5   #: ACCUMULATION: zone stick positions converge to x_stick_min (eq. 41)
+    PERIODIC = 6       #: NEVER_STOPS: the period-boundary state repeats with no net progress
+    WALK_FORWARD = 7   #: NEVER_STOPS: steady forward walk on uniform friction or through the high-friction region
+    WALK_BACKWARD = 8  #: NEVER_STOPS: steady backward walk (away from the zone)
+    MAX_EVENTS = 9     #: ERROR: the event budget max_events was used up
+    STALL = 10         #: ERROR: events without time advancing (a broken invariant, never a hang)
+    NONFINITE = 11     #: ERROR: the arithmetic overflowed (extreme scales); the last finite state is kept
+    SOLVER_FAILED = 12  #: ERROR: the underlying integrator failed (ivp)
+
+    @property
+    def status(self) -> Status:
+        return REASON_STATUS[self]
+
+
+REASON_STATUS = {
+    Reason.PERIODS: Status.HORIZON, Reason.MAX_PERIODS: Status.HORIZON, Reason.BOUNDED: Status.HORIZON,
+    Reason.FIRST_STICK: Status.HORIZON, Reason.REST: Status.REST, Reason.ACCUMULATION: Status.ACCUMULATION,
+    Reason.PERIODIC: Status.NEVER_STOPS, Reason.WALK_FORWARD: Status.NEVER_STOPS,
+    Reason.WALK_BACKWARD: Status.NEVER_STOPS, Reason.MAX_EVENTS: Status.ERROR, Reason.STALL: Status.ERROR,
+    Reason.NONFINITE: Status.ERROR, Reason.SOLVER_FAILED: Status.ERROR,
+}
+#: Status codes (int) in the order of :class:`Status`, for arrays of results.
+STATUS_CODES = {status: code for code, status in enumerate(Status)}
+
+#: The driver's decision constants (README "Solvers"), one set for every method.
+#: Longest cycle of period-boundary states the driver looks for, in periods (default).
+MAX_CYCLE = 8
+#: A near repeat of the period-boundary state: within NEAR_ULPS ulp of the position scale
+#: (|x - origin| + w) and of the velocity scale (|v| + the table velocity swing) ...
+NEAR_ULPS = 64.0
+#: ... while the mass moved more than MOTION_FACTOR times that position tolerance in between
+#: (an accumulation's boundary states differ by less and less, but so does its path).
+MOTION_FACTOR = 1.0e3
+#: Accumulation tolerances below this many ulp of the zone width are raised to it.
+ACC_TOL_ULPS = 64.0
+#: Successive zero-duration arcs that count as a stalled (Zeno) event loop.  The tie rules
+#: make this impossible; the guard turns a broken invariant into ERROR instead of a hang.
+STALL_EVENTS = 100
+
+#: Regions of constant or affine friction (a walk's region; bit masks use 1 << region).
+LOW, ZONE, HIGH = 0, 1, 2
+_WHERE = {-1: "on a uniform surface", LOW: "on the low-friction surface",
+          HIGH: "in the high-friction region (c_mu < max|y''|: it walks through)"}
+
+#: One message template per reason; fields are filled by :func:`message`.
+MESSAGES = {
+    Reason.PERIODS: "simulated {periods} periods ({fast_forward} by steady-state fast-forward)",
+    Reason.MAX_PERIODS: "no final outcome within max_periods = {max_periods} periods{away}",
+    Reason.BOUNDED: ("no final outcome within max_periods = {max_periods} periods: bounded motion in the stop "
+                     "zone that is neither at rest nor periodic with a period <= {max_cycle}; it may still "
+                     "come to rest later"),
+    Reason.FIRST_STICK: "stopped at the first stick event (until='stick') at x = {x!r}",
+    Reason.REST: "at rest for good: stuck at x = {x!r} where mu_bar = {mu!r} >= max|y''| = {rest_acc!r}",
+    Reason.ACCUMULATION: ("accumulation: stick positions in the transition zone converge to x_stick_min = "
+                          "{limit!r} (eq. 41); the last one is {remaining!r} before it (<= accumulation_tol), "
+                          "contraction {contraction!r}"),
+    Reason.PERIODIC: ("never stops: the state at the period boundary repeats every {cycle} period(s) with no "
+                      "net progress (periodic motion at x = {x!r})"),
+    Reason.WALK_FORWARD: "never stops: steady motion {where} with net advance {advance!r} per period",
+    Reason.WALK_BACKWARD: ("never stops: steady motion {where} with net advance {advance!r} per period"
+                           "{never_reaches}"),
+    Reason.MAX_EVENTS: "max_events = {max_events} reached at period {period}, tau = {tau!r}; raise max_events",
+    Reason.STALL: ("event loop stalled: more than {stall} successive events without time advancing at period "
+                   "{period}, tau = {tau!r}"),
+    Reason.NONFINITE: ("non-finite state in period {period} (the arithmetic overflows at these scales); the "
+                       "state at its start, x = {x!r}, v = {v!r}, is kept"),
+    Reason.SOLVER_FAILED: "{detail}",
+}
+
+
+def message(reason: Reason, **fields) -> str:
+    """The message of ``reason`` filled with ``fields`` (see :data:`MESSAGES`).
+
+    ``region`` (of a walk: LOW, HIGH, or -1 for a uniform surface) becomes the text
+    ``where``; ``zone`` (bool) adds "(never reaches the stop zone)" to a backward walk
+    on the low-friction surface and to max_periods without entering.
+    """
+    reason = Reason(reason)
+    region = fields.get("region", -1)
+    fields.setdefault("where", _WHERE.get(region, "in one region of constant friction"))
+    zone = fields.get("zone", False)
+    fields.setdefault("never_reaches", " (never reaches the stop zone)" if zone and region == LOW else "")
+    fields.setdefault("away", " (the stop zone was never entered)" if zone else "")
+    return MESSAGES[reason].format(**fields)
+
+
+class EventKind(IntEnum):
     """Kinds of events in the event log (the code stored in ``events['kind']``)."""
 
     SWITCH = 0    #: the table acceleration jumps (a profile switch time)
@@ -34,46 +128,5 @@ class EventKind(int, Enum):
 
 #: Mode codes in ``mode`` series and the event log.
 BACKWARD_SLIP, STICK, FORWARD_SLIP = -1, 0, 1
-
-EVENT_DTYPE = np.dtype([("kind", "i1"), ("period", "i8"), ("tau", "f8"),
-                        ("x", "f8"), ("v", "f8"), ("mode", "i1")])
-
-
-@dataclass
-class Trajectory:
-    """Outcome of :func:`selfalign.simulate`.
-
-    ``x_end``, ``v_end`` are the final state (for an accumulation, the
-    limit); the end time is ``period_end * dt + tau_end``.  ``series`` maps
-    the recorded names (``t``, ``x``, ``v``, ``y``, ``yd``, ``ydd``,
-    ``friction``, ``mode``) to arrays; ``events`` is a structured array of
-    ``EVENT_DTYPE`` or None; ``stats`` holds ``events``, ``steps``,
-    ``cpu_time``; ``info`` holds outcome details (e.g. ``limit``,
-    ``contraction``, ``stick_events`` for an accumulation).
-    """
-
-    x_end: float
-    v_end: float
-    period_end: int
-    tau_end: float
-    status: Status
-    message: str
-    method: str
-    options: dict = field(default_factory=dict)
-    series: dict = field(default_factory=dict)
-    events: np.ndarray | None = None
-    stats: dict = field(default_factory=dict)
-    info: dict = field(default_factory=dict)
-
-    @property
-    def success(self) -> bool:
-        return self.status is not Status.ERROR
-
-    def __getattr__(self, name):
-        # t, x, v, ... read as attributes; missing series raise a clear error.
-        series = self.__dict__.get("series", {})
-        if name in ("t", "x", "v", "y", "yd", "ydd", "friction", "mode"):
-            if name in series:
-                return series[name]
-            raise AttributeError(f"series {name!r} was not recorded; add it to the scene's record.series")
-        raise AttributeError(name)
+#: How each mode code reads.
+MODE_NAMES = {BACKWARD_SLIP: "backward slip", STICK: "stick", FORWARD_SLIP: "forward slip"}

@@ -10,7 +10,7 @@ work on the same object a direct ``simulate`` call returns.
 Layout (README "Results"):
 
 * root attributes: ``scene_name``, ``scene`` (YAML text of ``scene.to_dict()``),
-  ``method``, ``options`` (the solver options used), ``status``, ``message``,
+  ``method``, ``options`` (the solver options used), ``status``, ``reason``, ``message``,
   ``x_end``, ``v_end``, ``period_end``, ``tau_end``, ``t_end`` (= period_end
   dt + tau_end, for plotting), ``dt``; ``selfalign_version`` is added by
   ``write_h5``;
@@ -20,7 +20,8 @@ Layout (README "Results"):
   (``t`` plus the recorded names), attribute ``samples_per_period``;
 * group ``events`` (only if the scene recorded the event log): the columns of
   the structured event array (``kind``, ``period``, ``tau``, ``x``, ``v``,
-  ``mode``) as datasets, plus ``t`` = period dt + tau, and the attribute
+  ``mode_before``, ``mode``, ``acc_before``, ``acc_after``) as datasets, plus
+  ``t`` = period dt + tau, and the attribute
   ``kinds`` mapping each :class:`~selfalign.solvers.outcomes.EventKind` name to its code.
 """
 
@@ -30,7 +31,9 @@ import numpy as np
 
 from ..model.scene import Scene
 from ..io.scene_files import scene_from_dict
-from ..solvers.outcomes import EVENT_DTYPE, EventKind, Status, Trajectory
+from ..solvers.outcomes import EventKind, Reason, Status
+from ..solvers.records import EVENT_DTYPE
+from ..solvers.results import Trajectory
 
 #: Rerun entity path of each recordable series: one plot per quantity kind.
 RERUN_ENTITIES = {
@@ -77,6 +80,7 @@ def trajectory_content(traj: Trajectory, scene: Scene) -> tuple[dict, dict, dict
         "method": traj.method,
         "options": dict(traj.options),
         "status": Status(traj.status).value,
+        "reason": Reason(traj.reason).name.lower(),
         "message": traj.message,
         "x_end": float(traj.x_end),
         "v_end": float(traj.v_end),
@@ -102,7 +106,8 @@ def trajectory_from_result(result: dict) -> Trajectory:
     events = events_from_datasets(g["events"]["datasets"]) if "events" in g else None
     return Trajectory(
         x_end=a["x_end"], v_end=a["v_end"], period_end=a["period_end"], tau_end=a["tau_end"],
-        status=Status(a["status"]), message=a["message"], method=a["method"], options=dict(a["options"]),
+        status=Status(a["status"]), reason=Reason[a["reason"].upper()], message=a["message"], method=a["method"],
+        options=dict(a["options"]),
         series=series, events=events, stats=dict(g["stats"]["attrs"]), info=dict(g["info"]["attrs"]),
     )
 

@@ -1,0 +1,95 @@
+"""Loading the compiled event kernel (:mod:`selfalign.solvers.kernel`) on first use.
+
+numba is imported here and nowhere else at import time of a solver call, so that
+``import selfalign`` stays light.  :func:`kernel`:
+
+* registers the model formulas (:mod:`selfalign.model.registry`) with numba, so the
+  kernel calls those very functions compiled;
+* keeps numba's on-disk cache (``cache=True``) in a directory keyed by the content of
+  every source file the kernel is compiled from, by the numba and Python versions and by
+  the CPU: numba itself checks only the time stamp of the file that holds the decorated
+  function, so an edit of a model formula would otherwise run stale compiled code.  The
+  root is ``$SELFALIGN_CACHE_DIR`` or ``$XDG_CACHE_HOME/selfalign`` (``~/.cache/selfalign``);
+* turns a failure to import or compile into :class:`KernelError` with a clear message.
+
+The first call of each kernel entry point in a fresh cache compiles it (seconds; see
+README "Benchmarks"); later processes load it from the cache.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import platform
+import sys
+from pathlib import Path
+
+#: Source files the compiled kernel is built from (relative to the package).
+SOURCES = ("solvers/kernel.py", "solvers/records.py", "solvers/outcomes.py", "model/arcs.py",
+           "model/friction.py", "model/registry.py")
+
+_kernel = None
+
+
+class KernelError(RuntimeError):
+    """The compiled event kernel cannot be imported or compiled on this machine."""
+
+
+def cache_root() -> Path:
+    """Root of selfalign's compiled-code cache (see the module docstring)."""
+    env = os.environ.get("SELFALIGN_CACHE_DIR")
+    if env:
+        return Path(env)
+    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    return Path(base) / "selfalign"
+
+
+def cache_dir(numba_version: str) -> Path:
+    """The cache directory of this kernel build: the root, then a digest of the sources."""
+    package = Path(__file__).resolve().parents[1]
+    digest = hashlib.sha256()
+    for part in (numba_version, sys.version, platform.machine(), platform.processor()):
+        digest.update(part.encode())
+    for name in SOURCES:
+        digest.update((package / name).read_bytes())
+    return cache_root() / f"numba-{digest.hexdigest()[:16]}"
+
+
+def kernel():
+    """The compiled kernel module, imported (not yet compiled) on the first call."""
+    global _kernel
+    if _kernel is not None:
+        return _kernel
+    try:
+        import numba
+        from numba.extending import register_jitable
+    except ImportError as exc:
+        raise KernelError(f"the exact and Moreau solvers run compiled code and need numba: {exc}; "
+                          "install it with `pip install numba`") from None
+    from ..model import arcs, friction  # noqa: F401  (they fill the registry)
+    from ..model.registry import FORMULAS
+
+    for func in FORMULAS:
+        register_jitable(func)
+    previous = numba.config.CACHE_DIR
+    numba.config.CACHE_DIR = str(cache_dir(numba.__version__))
+    try:
+        from . import kernel as module
+    finally:
+        numba.config.CACHE_DIR = previous
+    _kernel = module
+    return module
+
+
+def call(function, *args):
+    """Call a kernel entry point; a numba compilation failure becomes a :class:`KernelError`."""
+    from numba.core.errors import NumbaError
+
+    try:
+        return function(*args)
+    except NumbaError as exc:
+        import numba
+
+        first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+        raise KernelError(f"the compiled event kernel failed to compile ({function.__name__}, numba "
+                          f"{numba.__version__}): {first}") from exc

@@ -1,0 +1,1155 @@
+"""The compiled event kernel: steppers and the one driver, for one trajectory or many.
+
+Load it through :func:`selfalign.solvers.jit.kernel` (which sets numba's cache
+directory first); importing this module compiles nothing until a function is called.
+
+Layout.  Every trajectory is one :data:`~selfalign.solvers.records.MEMBER_DTYPE`
+record; :func:`run_members` drives each member of an array of them with
+:func:`drive`, the same code for one trajectory (``selfalign.simulate``) and for a
+batch, so scalar and batch results are bit-identical by construction.  :func:`drive`
+owns the horizon, the outcome decisions and the steady-state fast-forward; a stepper
+advances one member by one period:
+
+* :func:`_period_piecewise`: the exact event-driven solver on a piecewise-constant
+  profile, closed-form arcs and event times of :mod:`selfalign.model.arcs`;
+* :func:`_period_smooth`: the exact solver on a Fourier profile (uniform surface):
+  closed form in the profile, event times bracketed on a grid and refined by Brent's
+  method (:func:`_brent`) to ~1 ulp;
+* :func:`_period_moreau`: Moreau time-stepping with the table impulse of each step
+  integrated exactly (:mod:`selfalign.solvers.moreau`).
+
+The friction law and the arcs are the functions of :mod:`selfalign.model` themselves
+(registered with numba when :mod:`selfalign.solvers.jit` loads this module).
+
+Positions are relative to an origin (x_mu on a stop zone, else x0), so that x_mu = 1e6
+costs no accuracy in the zone; time is (period n, tau in [0, dt)), period boundaries
+at the start phase tau0.
+
+Tie rules of the exact solver (they make every zero-length step change the mode, so
+there is no Zeno loop):
+
+1. |y''| = mu_bar counts as stick.
+2. v = 0 and a zone crossing at the same time: the v = 0 event wins (mu_bar is
+   continuous, so no crossing is needed to decide the mode).
+3. v = 0 exactly at a break (grazing): the v = 0 event is handled first with the
+   ending piece's y'', then the break re-decides the mode with the new piece's y''.
+4. A slip velocity of the wrong sign (rounding, at most a few ulp) is set to 0 at
+   the start of an arc; an arc that decelerates from v = 0 then ends at once with a
+   v = 0 event, which always changes the mode.
+5. A mass exactly on a zone boundary belongs to the region it moves into (stuck:
+   x = x_mu counts as low friction, x = x_mu + w as high friction).
+
+Outcome decisions (:func:`drive`, README "Solvers"): REST at a stick where
+mu_bar(x) >= the stepper's rest acceleration (max|y''|; Moreau: max|impulse| / h);
+ACCUMULATION at a stick in the transition zone above the previous zone stick and within
+``acc_tol`` of x_stick_min (eq. 41); NEVER_STOPS when the period-boundary state repeats
+(exactly, or to NEAR_ULPS ulp while the mass moved MOTION_FACTOR times that tolerance
+in between) with no progress, or repeats in one region of constant friction while the
+mass walks away from the zone or through it; HORIZON at the horizon; ERROR on the event
+budget, a stall or an overflow.  A bit-exact repeat of the period-boundary state is
+also fast-forwarded (skipped in whole cycles) unless a recording is asked for.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import literally, njit
+
+from ..model import arcs as A
+from ..model import friction as F
+from . import records as R
+from .outcomes import ACC_TOL_ULPS, HIGH, LOW, MOTION_FACTOR, NEAR_ULPS, STALL_EVENTS, ZONE, EventKind, Reason
+
+jit = njit(cache=True, error_model="numpy", nogil=True)
+
+_INF = math.inf
+_EPS = 2.0 ** -52
+_NAN = math.nan
+
+# Reason codes as plain ints (compile-time constants for numba).
+_ACCUMULATION = int(Reason.ACCUMULATION)
+_BOUNDED = int(Reason.BOUNDED)
+_FIRST_STICK = int(Reason.FIRST_STICK)
+_MAX_EVENTS = int(Reason.MAX_EVENTS)
+_MAX_PERIODS = int(Reason.MAX_PERIODS)
+_NONFINITE = int(Reason.NONFINITE)
+_PERIODIC = int(Reason.PERIODIC)
+_PERIODS = int(Reason.PERIODS)
+_REST = int(Reason.REST)
+_STALL = int(Reason.STALL)
+_WALK_BACKWARD = int(Reason.WALK_BACKWARD)
+_WALK_FORWARD = int(Reason.WALK_FORWARD)
+
+# Stepper results (period functions).
+DONE, STOP_REST, STOP_ACCUMULATION, STOP_FIRST_STICK, STOP_BUDGET, STOP_STALL = 0, 1, 2, 3, 4, 5
+
+#: Evaluations of Brent's method at most per event time (it needs ~10 to 1 ulp).
+BRENT_MAX_ITER = 200
+
+_SWITCH, _STICK, _SLIP, _REVERSAL, _ZONE = (int(EventKind.SWITCH), int(EventKind.STICK), int(EventKind.SLIP),
+                                            int(EventKind.REVERSAL), int(EventKind.ZONE))
+_QUADRATIC, _HARMONIC, _HYPERBOLIC, _STICK_ARC, _SMOOTH = A.QUADRATIC, A.HARMONIC, A.HYPERBOLIC, A.STICK, A.SMOOTH
+
+
+# ----------------------------------------------------------------------------------------
+# Recording (scalar runs only).  The buffers are sized by the caller and never reassigned
+# here (a loop-carried array costs reference counting in every iteration); a record past
+# the end is only counted, and the caller runs again with buffers of the counted size.
+# ----------------------------------------------------------------------------------------
+
+@jit
+def _norm(n, tau, dt):
+    """(period, tau) with tau in [0, dt): an event at the very end of a period starts the next."""
+    if tau >= dt:
+        return n + 1, tau - dt
+    return n, tau
+
+
+@jit
+def _record_arc(arcs, s, dt, kind, n, tau, dur, xi, v, acc, a, om, mode, region):
+    k = s.n_arcs
+    if k < arcs.shape[0]:
+        r = arcs[k]
+        r.kind = kind
+        r.period, r.tau = _norm(n, tau, dt)
+        r.duration, r.x, r.v, r.acc, r.table_acc, r.omega, r.mode, r.region = dur, xi, v, acc, a, om, mode, region
+    s.n_arcs = k + 1
+
+
+@jit
+def _record_event(events, s, dt, kind, n, tau, xi, v, mode_before, mode_after, acc_before, acc_after):
+    k = s.n_events
+    if k < events.shape[0]:
+        r = events[k]
+        r.kind = kind
+        r.period, r.tau = _norm(n, tau, dt)
+        r.x, r.v, r.mode_before, r.mode = xi, v, mode_before, mode_after
+        r.acc_before, r.acc_after = acc_before, acc_after
+    s.n_events = k + 1
+
+
+@jit
+def _record_sample(samples, s, n, tau, xi, v, mode):
+    k = s.n_samples
+    if k < samples.shape[0]:
+        r = samples[k]
+        r.period, r.tau, r.x, r.v, r.mode = n, tau, xi, v, mode
+    s.n_samples = k + 1
+
+
+# ----------------------------------------------------------------------------------------
+# Friction field and stick outcomes (shared by every stepper)
+# ----------------------------------------------------------------------------------------
+
+@jit
+def _mu(s, xi):
+    """mu_bar at xi (eqs. 7-9; 1 on a uniform surface)."""
+    if not s.zone:
+        return 1.0
+    return F.coefficient(xi, s.w, s.c_mu)
+
+
+@jit
+def _region(s, xi, mode):
+    """Region of an arc starting at xi in ``mode`` (tie rule 5)."""
+    if not s.zone:
+        return LOW
+    if xi < 0.0 or (xi == 0.0 and mode <= 0):
+        return LOW
+    if xi > s.w or (xi == s.w and mode >= 0):
+        return HIGH
+    return ZONE
+
+
+@jit
+def _holds(s, mu):
+    """Whether friction mu_bar holds a stuck mass for good: mu_bar >= max|y''| (exact
+    solvers).  Moreau passes its own test, the step's (:func:`_period_moreau`)."""
+    return mu >= s.rest_acc
+
+
+@jit
+def _on_stick(s, xi, mu, n, tau, until, holds):
+    """Bookkeeping at a stick event at xi (friction mu); a non-zero result ends the run.
+
+    REST where ``holds`` (the friction holds the mass for good, :func:`_holds`);
+    ACCUMULATION (until='rest') at a stick in the transition zone above the previous one
+    and within acc_tol of x_stick_min; FIRST_STICK for until='stick'.
+    """
+    s.sticks += 1
+    if s.zone and xi >= 0.0:
+        s.zone_sticks += 1
+        if s.first_stick_n < 0:
+            s.first_stick_xi, s.first_stick_n, s.first_stick_tau = xi, n, tau
+    if holds:
+        s.at_rest = True
+        if until != R.UNTIL_PERIODS:
+            return STOP_REST
+        return DONE
+    if until == R.UNTIL_REST and s.zone and 0.0 <= xi <= s.w:
+        if s.nh >= 1 and xi > s.h1 and s.xs - xi <= s.acc_tol:
+            if s.nh >= 2 and s.h1 > s.h2:
+                s.contraction = (xi - s.h1) / (s.h1 - s.h2)
+            s.last_stick = xi
+            return STOP_ACCUMULATION
+        s.h2 = s.h1
+        s.h1 = xi
+        s.nh = min(s.nh + 1, 2)
+    if until == R.UNTIL_STICK:
+        return STOP_FIRST_STICK
+    return DONE
+
+
+@jit
+def _crossed(s, bnd, cross, kind, om, xi0, v0, acc0, xi1, v1, n, tau, dur):
+    """First crossings of the boundaries ``bnd`` by an arc from (xi0, v0) to (xi1, v1) of
+    duration ``dur`` starting at (n, tau): the time in closed form on exact arcs, at the
+    step end on smooth arcs and Moreau steps."""
+    for j in range(bnd.shape[0]):
+        c = cross[j]
+        if c.period >= 0 or not xi1 >= bnd[j]:      # NaN: a boundary that does not exist
+            continue
+        if xi0 >= bnd[j]:
+            sc, vc = 0.0, v0
+        elif kind == _SMOOTH or kind == _STICK_ARC:
+            sc, vc = dur, v1
+        else:
+            sc = min(A.crossing_time(kind, om, v0, acc0, xi0 - bnd[j]), dur)
+            vc = v1 if sc == dur else A.step(kind, om, v0, acc0, sc)[1]
+        c.period = n
+        c.tau = tau + sc
+        c.v = vc
+        c.sticks = s.zone_sticks
+
+
+@jit
+def _save(s, events, path, xi_max, dxp, lo, hi, regions):
+    """Write a period's running totals back to the member record."""
+    s.events, s.path, s.xi_max = events, path, xi_max
+    s.dxp, s.lo, s.hi, s.regions = dxp, lo, hi, regions
+
+
+@jit
+def _stop(s, code, xi, v, mode, n, tau, dt):
+    s.xi, s.v, s.mode = xi, v, mode
+    s.stop_n, s.stop_tau = _norm(n, tau, dt)
+    return code
+
+
+# ----------------------------------------------------------------------------------------
+# Exact stepper, piecewise-constant profiles
+# ----------------------------------------------------------------------------------------
+
+@jit
+def _pw_piece(row, tau):
+    """Index of the piece holding phase ``tau`` (right-continuous)."""
+    m = int(row[R.DATA])
+    i = 0
+    while i + 1 < m and row[R.DATA + 2 + i] <= tau:
+        i += 1
+    return i
+
+
+@jit
+def _pw_acc(row, tau):
+    m = int(row[R.DATA])
+    return row[R.DATA + 2 + m + _pw_piece(row, tau)]
+
+
+@jit
+def _arc_params(s, xi, mode, a):
+    """(kind, region, mu_bar, x'') of the arc starting at xi in ``mode`` under y'' = a."""
+    r = _region(s, xi, mode)
+    if r == LOW:
+        mu = 1.0
+    elif r == HIGH:
+        mu = s.c_mu
+    else:
+        mu = F.coefficient(xi, s.w, s.c_mu)
+    if mode == 0:
+        return _STICK_ARC, r, mu, 0.0
+    kind = _QUADRATIC if r != ZONE else (_HARMONIC if mode > 0 else _HYPERBOLIC)
+    return kind, r, mu, -a - mode * mu
+
+
+@jit
+def _harmonic_reaches(xi, v, acc0, b1, om, xb):
+    """False only if a harmonic arc from (xi, v) provably stays below xb: its largest x is
+    the centre xi + acc0 / b1 plus the amplitude (a margin of 1e-9 covers rounding)."""
+    centre = xi + acc0 / b1
+    amplitude = math.sqrt((acc0 / b1) ** 2 + (v / om) ** 2)
+    return centre + amplitude >= xb - 1e-9 * (abs(centre) + amplitude + abs(xb))
+
+
+@jit
+def _period_piecewise(s, row, until, max_events, bnd, cross, record, arcs, events):
+    """Advance member ``s`` from the period boundary (n, tau0) to (n + 1, tau0)."""
+    dt = row[R.DT]
+    m = int(row[R.DATA])
+    b0 = R.DATA + 1
+    a0 = R.DATA + 2 + m
+    tau0 = s.tau0
+    i0 = _pw_piece(row, tau0)
+    tail = tau0 > row[b0 + i0]
+    nseg = m + 1 if tail else m
+    zone, w, om, b1 = s.zone, s.w, s.omega, s.b1
+    track = bnd.shape[0] > 0
+    xi, v, mode, n = s.xi, s.v, s.mode, s.n
+    count = s.events
+    path, xi_max = s.path, s.xi_max
+    dxp = 0.0
+    lo = 0.0
+    hi = 0.0
+    regions = 0
+    stalled = 0
+    fresh = s.fresh
+    s.fresh = False
+    a_prev = row[a0 + i0] if tail else row[a0 + (i0 - 1) % m]
+    for j in range(nseg):
+        # Segment j of the period from tau0: the rest of piece i0, the following pieces,
+        # then (next period) the pieces before i0 and the head of piece i0.
+        if j == 0:
+            p, ts, seg, dn, at_break = i0, tau0, row[b0 + i0 + 1] - tau0, 0, not tail
+        elif j < m:
+            p = i0 + j
+            dn = 0
+            if p >= m:
+                p -= m
+                dn = 1
+            ts, seg, at_break = row[b0 + p], row[b0 + p + 1] - row[b0 + p], True
+        else:
+            p, ts, seg, dn, at_break = i0, row[b0 + i0], tau0 - row[b0 + i0], 1, True
+        a = row[a0 + p]
+        nn = n + dn
+        s0 = 0.0
+        if at_break and not fresh:
+            count += 1
+            if v * mode < 0.0:
+                v = 0.0
+            if record:
+                acc_b = _arc_params(s, xi, mode, a_prev)[3]
+                acc_a = _arc_params(s, xi, mode, a)[3]
+                _record_event(events, s, dt, _SWITCH, nn, ts, xi, v, mode, mode, acc_b, acc_a)
+            if mode == 0 or v == 0.0:            # tie rule 3: re-decide at v = 0
+                mu = _mu(s, xi)
+                new = F.decide_mode(a, mu)
+                if new != mode:
+                    count += 1
+                    if record:
+                        kind_e = _SLIP if mode == 0 else (_STICK if new == 0 else _REVERSAL)
+                        _record_event(events, s, dt, kind_e, nn, ts, xi, 0.0, mode, new,
+                                               _arc_params(s, xi, mode, a)[3], _arc_params(s, xi, new, a)[3])
+                    mode = new
+                    if new == 0:
+                        code = _on_stick(s, xi, mu, nn, ts, until, _holds(s, mu))
+                        if code != DONE:
+                            _save(s, count, path, xi_max, dxp, lo, hi, regions)
+                            return _stop(s, code, xi, 0.0, 0, nn, ts, dt)
+                v = 0.0
+            if count >= max_events:
+                _save(s, count, path, xi_max, dxp, lo, hi, regions)
+                return _stop(s, STOP_BUDGET, xi, v, mode, nn, ts, dt)
+        fresh = False
+        a_prev = a
+        while mode != 0:
+            if v * mode < 0.0:                  # tie rule 4
+                v = 0.0
+            kind, r, mu, acc0 = _arc_params(s, xi, mode, a)
+            regions |= 1 << r
+            rem = seg - s0
+            s_b = _INF
+            xb = 0.0
+            om_arc = 0.0
+            if kind == _QUADRATIC:
+                s_v = -v / acc0 if acc0 * mode < 0.0 else _INF
+                if zone and (r == LOW) == (mode > 0):
+                    xb = 0.0 if r == LOW else w
+                    s_b = A.crossing_time(_QUADRATIC, 0.0, v, acc0, xi - xb)
+            else:
+                om_arc = om
+                s_v = A.zero_velocity_time(kind, om, mode, v, acc0)
+                xb = w if mode > 0 else 0.0
+                if kind == _HYPERBOLIC or _harmonic_reaches(xi, v, acc0, b1, om, xb):
+                    s_b = A.crossing_time(kind, om, v, acc0, xi - xb)
+            if s_v <= s_b and s_v <= rem:       # tie rules 2, 3
+                dur, ev = s_v, 1
+            elif s_b <= rem:
+                dur, ev = s_b, 2
+            else:
+                dur, ev = rem, 0
+            dx, v1 = A.step(kind, om_arc, v, acc0, dur)
+            if record:
+                _record_arc(arcs, s, dt, kind, nn, ts + s0, dur, xi, v, acc0, a, om_arc, mode, r)
+            xi_new = xb if ev == 2 else xi + dx
+            path += abs(xi_new - xi)
+            if xi_new > xi_max:
+                xi_max = xi_new
+            if track:
+                _crossed(s, bnd, cross, kind, om_arc, xi, v, acc0, xi_new, 0.0 if ev == 1 else v1, nn, ts + s0, dur)
+            if ev == 0:
+                dxp += dx
+                xi = xi_new
+                v = v1
+                if dxp > hi:
+                    hi = dxp
+                elif dxp < lo:
+                    lo = dxp
+                break
+            s0 += dur
+            count += 1
+            stalled = stalled + 1 if dur == 0.0 else 0
+            if stalled > STALL_EVENTS:
+                _save(s, count, path, xi_max, dxp, lo, hi, regions)
+                return _stop(s, STOP_STALL, xi, v, mode, nn, ts + s0, dt)
+            if ev == 2:                         # zone crossing: land exactly on the boundary
+                dxp += xb - xi
+                xi = xb
+                v = v1
+                if record:
+                    _record_event(events, s, dt, _ZONE, nn, ts + s0, xi, v, mode, mode,
+                                           A.acceleration(kind, b1, acc0, dx), _arc_params(s, xi, mode, a)[3])
+            else:                               # v = 0: stick or reverse (tie rule 1)
+                dxp += dx
+                xi = xi_new
+                v = 0.0
+                mu = _mu(s, xi)
+                new = F.decide_mode(a, mu)
+                if record:
+                    _record_event(events, s, dt, _STICK if new == 0 else _REVERSAL, nn, ts + s0, xi,
+                                           0.0, mode, new, A.acceleration(kind, b1, acc0, dx),
+                                           _arc_params(s, xi, new, a)[3])
+                mode = new
+                if new == 0:
+                    code = _on_stick(s, xi, mu, nn, ts + s0, until, _holds(s, mu))
+                    if code != DONE:
+                        _save(s, count, path, xi_max, dxp, lo, hi, regions)
+                        return _stop(s, code, xi, 0.0, 0, nn, ts + s0, dt)
+            if dxp > hi:
+                hi = dxp
+            elif dxp < lo:
+                lo = dxp
+            if count >= max_events:
+                _save(s, count, path, xi_max, dxp, lo, hi, regions)
+                return _stop(s, STOP_BUDGET, xi, v, mode, nn, ts + s0, dt)
+        if mode == 0:
+            r = _region(s, xi, 0)
+            regions |= 1 << r
+            if record:
+                _record_arc(arcs, s, dt, _STICK_ARC, nn, ts + s0, seg - s0, xi, 0.0, 0.0, a, 0.0, 0, r)
+    s.xi, s.v, s.mode, s.n = xi, v, mode, n + 1
+    _save(s, count, path, xi_max, dxp, lo, hi, regions)
+    return DONE
+
+
+# ----------------------------------------------------------------------------------------
+# Exact stepper, Fourier profiles (uniform surface)
+# ----------------------------------------------------------------------------------------
+
+@jit
+def _fourier(row, t):
+    """(y, y', y'') of the Fourier profile in ``row`` at time t."""
+    k = int(row[R.DATA])
+    y = 0.0
+    yd = 0.0
+    ydd = 0.0
+    for i in range(k):
+        a, b, om = row[R.DATA + 1 + i], row[R.DATA + 1 + k + i], row[R.DATA + 1 + 2 * k + i]
+        c, sn = math.cos(om * t), math.sin(om * t)
+        y += a * c + b * sn
+        yd += om * (b * c - a * sn)
+        ydd -= om * om * (a * c + b * sn)
+    return y, yd, ydd
+
+
+@jit
+def _event_function(kind, row, t0, s, sign, v, s0, yd0):
+    """Event functions of the smooth stepper: kind 0, |y''| crossing mu_bar = 1 upwards
+    while stuck (sign sgn(y'')); kind 1, the relative velocity of a slip in direction
+    ``sign`` from (s0, v): x' = v - sign (s - s0) - (y'(t0 + s) - y'(t0 + s0)), signed."""
+    y, yd, ydd = _fourier(row, t0 + s)
+    if kind == 0:
+        return sign * ydd - 1.0
+    return sign * (v - sign * (s - s0) - (yd - yd0))
+
+
+@jit
+def _brent(kind, row, t0, sign, v, s0, yd0, xa, xb, xtol, rtol):
+    """Root of :func:`_event_function` in [xa, xb] (a sign change) by Brent's method, as
+    scipy.optimize.brentq (same steps), to |error| <= xtol + rtol |x|."""
+    xpre, xcur = xa, xb
+    xblk = 0.0
+    fblk = 0.0
+    spre = 0.0
+    scur = 0.0
+    fpre = _event_function(kind, row, t0, xpre, sign, v, s0, yd0)
+    fcur = _event_function(kind, row, t0, xcur, sign, v, s0, yd0)
+    if fpre == 0.0:
+        return xpre
+    if fcur == 0.0:
+        return xcur
+    for _ in range(BRENT_MAX_ITER):
+        if fpre != 0.0 and fcur != 0.0 and (fpre < 0.0) != (fcur < 0.0):
+            xblk, fblk = xpre, fpre
+            spre = scur = xcur - xpre
+        if abs(fblk) < abs(fcur):
+            xpre, xcur, xblk = xcur, xblk, xcur
+            fpre, fcur, fblk = fcur, fblk, fcur
+        delta = 0.5 * (xtol + rtol * abs(xcur))
+        sbis = 0.5 * (xblk - xcur)
+        if fcur == 0.0 or abs(sbis) < delta:
+            return xcur
+        if abs(spre) > delta and abs(fcur) < abs(fpre):
+            if xpre == xblk:
+                stry = -fcur * (xcur - xpre) / (fcur - fpre)
+            else:
+                dpre = (fpre - fcur) / (xpre - xcur)
+                dblk = (fblk - fcur) / (xblk - xcur)
+                stry = -fcur * (fblk * dblk - fpre * dpre) / (dblk * dpre * (fblk - fpre))
+            if 2.0 * abs(stry) < min(abs(spre), 3.0 * abs(sbis) - delta):
+                spre, scur = scur, stry
+            else:
+                spre, scur = sbis, sbis
+        else:
+            spre, scur = sbis, sbis
+        xpre, fpre = xcur, fcur
+        if abs(scur) > delta:
+            xcur += scur
+        else:
+            xcur += delta if sbis > 0.0 else -delta
+        fcur = _event_function(kind, row, t0, xcur, sign, v, s0, yd0)
+    return xcur
+
+
+@jit
+def _smooth_grid(row, tau0):
+    """(grid offsets from tau0, y', y'') on 64 (order + 1) + 1 points of one period."""
+    k = int(row[R.DATA])
+    g = 64 * (k + 1)
+    dt = row[R.DT]
+    grid = np.empty(g + 1)
+    yd = np.empty(g + 1)
+    ydd = np.empty(g + 1)
+    for i in range(g + 1):
+        grid[i] = dt * i / g
+        _, yd[i], ydd[i] = _fourier(row, tau0 + grid[i])
+    return grid, yd, ydd
+
+
+@jit
+def _period_smooth(s, row, until, max_events, bnd, cross, record, arcs, events, grid, g_yd, g_ydd):
+    """Advance member ``s`` one period on a Fourier profile (uniform surface)."""
+    dt = row[R.DT]
+    tau0 = s.tau0
+    xtol = 2.0 * _EPS * dt
+    rtol = 4.0 * _EPS
+    xi, v, mode, n = s.xi, s.v, s.mode, s.n
+    dxp = 0.0
+    lo = 0.0
+    hi = 0.0
+    s.fresh = False
+    s0 = 0.0
+    g = grid.shape[0]
+    while True:
+        k0 = 0
+        while k0 < g and grid[k0] <= s0:
+            k0 += 1
+        if mode == 0:
+            k = k0
+            while k < g and not abs(g_ydd[k]) > 1.0:
+                k += 1
+            if k >= g:
+                if record:
+                    _record_arc(arcs, s, dt, _STICK_ARC, n, tau0 + s0, dt - s0, xi, 0.0, 0.0, _NAN, 0.0,
+                                       0, LOW)
+                break
+            sgn = 1.0 if g_ydd[k] > 0.0 else -1.0
+            left = max(s0, grid[k - 1])
+            if _event_function(0, row, tau0, left, sgn, 0.0, 0.0, 0.0) >= 0.0:
+                root = left
+            else:
+                root = _brent(0, row, tau0, sgn, 0.0, 0.0, 0.0, left, grid[k], xtol, rtol)
+            new = -int(sgn)
+            if record:
+                _record_arc(arcs, s, dt, _STICK_ARC, n, tau0 + s0, root - s0, xi, 0.0, 0.0, _NAN, 0.0, 0, LOW)
+                ydd_r = _fourier(row, tau0 + root)[2]
+                _record_event(events, s, dt, _SLIP, n, tau0 + root, xi, 0.0, 0, new, 0.0, -ydd_r + sgn)
+            s.events += 1
+            mode, v, s0 = new, 0.0, root
+        else:
+            sigma = float(mode)
+            y0, yd0, ydd0 = _fourier(row, tau0 + s0)
+            # First grid point where the velocity has the slip's sign (a slip from rest
+            # first has to leave v = 0), then the first where it has lost it again.
+            k = k0
+            if not sigma * v > 0.0:
+                while k < g and not sigma * (v - sigma * (grid[k] - s0) - (g_yd[k] - yd0)) > 0.0:
+                    k += 1
+            while k < g and sigma * (v - sigma * (grid[k] - s0) - (g_yd[k] - yd0)) > 0.0:
+                k += 1
+            if k >= g:
+                root = dt
+                found = False
+            else:
+                left = grid[k - 1] if k > k0 else s0
+                root = _brent(1, row, tau0, sigma, v, s0, yd0, left, grid[k], xtol, rtol)
+                found = True
+            d = root - s0
+            y1, yd1, ydd1 = _fourier(row, tau0 + root)
+            dx = v * d - 0.5 * sigma * d * d - (y1 - y0 - yd0 * d)
+            if record:
+                _record_arc(arcs, s, dt, _SMOOTH, n, tau0 + s0, d, xi, v, -ydd0 - sigma, _NAN, 0.0, mode, LOW)
+            v_end = v - sigma * d - (yd1 - yd0)
+            s.path += abs(dx)
+            s.xi_max = max(s.xi_max, xi + dx)
+            _crossed(s, bnd, cross, _SMOOTH, 0.0, xi, v, 0.0, xi + dx, v_end if not found else 0.0, n, tau0 + s0, d)
+            xi += dx
+            dxp += dx
+            if dxp > hi:
+                hi = dxp
+            elif dxp < lo:
+                lo = dxp
+            if not found:
+                v = v_end
+                break
+            s.events += 1
+            v, s0 = 0.0, root
+            new = F.decide_mode(ydd1, 1.0)
+            if record:
+                _record_event(events, s, dt, _STICK if new == 0 else _REVERSAL, n, tau0 + root, xi, 0.0,
+                                       mode, new, -ydd1 - sigma, 0.0 if new == 0 else -ydd1 - new)
+            mode = new
+            if new == 0:
+                code = _on_stick(s, xi, 1.0, n, tau0 + root, until, _holds(s, 1.0))
+                if code != DONE:
+                    s.dxp, s.lo, s.hi, s.regions = dxp, lo, hi, 1
+                    return _stop(s, code, xi, 0.0, 0, n, tau0 + root, dt)
+        if s.events >= max_events:
+            s.dxp, s.lo, s.hi, s.regions = dxp, lo, hi, 1
+            return _stop(s, STOP_BUDGET, xi, v, mode, n, tau0 + s0, dt)
+    s.xi, s.v, s.mode, s.n = xi, v, mode, n + 1
+    s.dxp, s.lo, s.hi, s.regions = dxp, lo, hi, 1
+    return DONE
+
+
+# ----------------------------------------------------------------------------------------
+# Moreau time-stepping
+# ----------------------------------------------------------------------------------------
+
+#: Relaxation r of the paper's fixed-point iteration, in units of the friction bound h mu_bar:
+#: s <- proj_[-1,1](s + r v_{k+1}(s)) with r = FP_RELAXATION / (h mu_bar), a contraction
+#: with factor |1 - FP_RELAXATION| = 1/2 (1 would reach the soft threshold in one sweep).
+FP_RELAXATION = 0.5
+
+
+@jit
+def _impulse(s, v_free, bound, fixed_point, fp_tol, fp_max_iter):
+    """v_{k+1} = v* - bound s, s in Sign(v_{k+1}): exactly (the soft threshold of v* by
+    bound) or by the paper's fixed-point iteration on the multiplier s."""
+    if not fixed_point:
+        if v_free > bound:
+            return v_free - bound
+        if v_free < -bound:
+            return v_free + bound
+        return 0.0
+    m = 0.0
+    r = FP_RELAXATION / bound
+    change = 0.0
+    converged = False
+    for it in range(1, fp_max_iter + 1):
+        m_new = min(1.0, max(-1.0, m + r * (v_free - bound * m)))
+        change = abs(bound * (m_new - m))
+        m = m_new
+        s.fp_iterations += 1
+        if change <= fp_tol:
+            converged = True
+            break
+    if not converged:
+        s.fp_unconverged += 1
+        s.fp_max_change = max(s.fp_max_change, change)
+    if abs(m) >= 1.0:
+        return v_free - bound * m
+    return 0.0
+
+
+@jit
+def _step_region(s, x):
+    if not s.zone or x <= 0.0:
+        return LOW
+    return HIGH if x >= s.w else ZONE
+
+
+@jit
+def _period_moreau(s, row, until, bnd, cross, record, samples, sample_steps, fixed_point, fp_tol, fp_max_iter):
+    """Advance member ``s`` one period with N Moreau steps (:mod:`selfalign.solvers.moreau`)."""
+    dt = row[R.DT]
+    nsteps = int(row[R.DATA])
+    h = row[R.DATA + 1]
+    largest = row[R.DATA + 2]
+    d0 = R.DATA + 3
+    half = 0.5 * h
+    tau0 = s.tau0
+    xi, v, n = s.xi, s.v, s.n
+    dxp = 0.0
+    lo = 0.0
+    hi = 0.0
+    regions = 0
+    s.fresh = False
+    nxt = 0            # next dense-output sample (index into sample_steps)
+    k = 0
+    while k < nsteps:
+        if v == 0.0:
+            # Stuck: a step is the identity while |impulse| <= h mu_bar (v* = -impulse lies in
+            # the stick window), so jump to the first step that can start a slip.
+            bound = h * _mu(s, xi)
+            k_next = k
+            while k_next < nsteps and abs(row[d0 + k_next]) <= bound:
+                k_next += 1
+            regions |= 1 << _step_region(s, xi)
+            if record:
+                while nxt < sample_steps.shape[0] and sample_steps[nxt] < k_next:
+                    _record_sample(samples, s, n, tau0 + sample_steps[nxt] * h, xi, 0.0, 0)
+                    nxt += 1
+            k = k_next
+            if k >= nsteps:
+                break
+        if record and nxt < sample_steps.shape[0] and sample_steps[nxt] == k:
+            _record_sample(samples, s, n, tau0 + k * h, xi, v, (v > 0.0) - (v < 0.0))
+            nxt += 1
+        x_mid = xi + half * v
+        mu = _mu(s, x_mid)
+        regions |= 1 << _step_region(s, x_mid)
+        v_new = _impulse(s, v - row[d0 + k], h * mu, fixed_point, fp_tol, fp_max_iter)
+        x_new = x_mid + half * v_new
+        s.steps += 1
+        dx = x_new - xi
+        dxp += dx
+        if dxp > hi:
+            hi = dxp
+        elif dxp < lo:
+            lo = dxp
+        s.path += abs(dx)
+        s.xi_max = max(s.xi_max, x_new)
+        if bnd.shape[0]:
+            _crossed(s, bnd, cross, _SMOOTH, 0.0, xi, v, 0.0, x_new, v_new, n, tau0 + k * h, h)
+        was_moving = v != 0.0
+        xi, v = x_new, v_new
+        k += 1
+        if v == 0.0 and was_moving:
+            mu_x = _mu(s, xi)
+            code = _on_stick(s, xi, mu_x, n, tau0 + k * h, until, h * mu_x >= largest)
+            if code != DONE:
+                s.dxp, s.lo, s.hi, s.regions = dxp, lo, hi, regions
+                return _stop(s, code, xi, 0.0, 0, n, tau0 + k * h, dt)
+    s.xi, s.v, s.n = xi, v, n + 1
+    s.mode = (v > 0.0) - (v < 0.0)
+    s.dxp, s.lo, s.hi, s.regions = dxp, lo, hi, regions
+    return DONE
+
+
+# ----------------------------------------------------------------------------------------
+# The driver: horizon, outcome decisions, fast-forward
+# ----------------------------------------------------------------------------------------
+
+@jit
+def _prepare(s, row, method, acc_tol):
+    """Derived constants of a member and its state at the run start (n = 0, time tau0)."""
+    s.b1 = (s.c_mu - 1.0) / s.w if s.zone else 0.0
+    s.omega = math.sqrt(s.b1)
+    s.rest_acc = row[R.REST_ACC]
+    s.xs = F.stick_limit(row[R.REST_ACC], s.w, s.c_mu) if s.zone else _INF
+    s.acc_tol = max(acc_tol, ACC_TOL_ULPS * _EPS * s.w) if s.zone else acc_tol
+    s.n, s.fresh, s.events, s.steps = 0, True, 0, 0
+    s.sticks, s.zone_sticks, s.nh = 0, 0, 0
+    s.h1, s.h2 = _NAN, _NAN
+    s.first_stick_xi, s.first_stick_n, s.first_stick_tau = _NAN, -1, _NAN
+    s.at_rest = False
+    s.xi_max, s.path, s.fast_forward = s.xi, 0.0, 0
+    s.n_arcs, s.n_events, s.n_samples = 0, 0, 0
+    s.fp_iterations, s.fp_unconverged, s.fp_max_change = 0, 0, 0.0
+    s.contraction, s.advance, s.cycle, s.cycle_region, s.last_stick = _NAN, _NAN, 0, -1, _NAN
+    s.stop_n, s.stop_tau = 0, s.tau0
+    s.dxp, s.lo, s.hi, s.regions = 0.0, 0.0, 0.0, 0
+
+
+@jit
+def _start(s, a, until, moreau, holds_scale):
+    """The mode at the start under table acceleration ``a``: the sign of v0, or at v0 = 0
+    the stick/slip decision (Moreau: stuck until a step says otherwise); REST if stuck for
+    good (Moreau: ``holds_scale`` = (h, largest |impulse|), the step's test).  No stick
+    event is counted for the initial state."""
+    if s.v != 0.0:
+        s.mode = 1 if s.v > 0.0 else -1
+        return DONE
+    mu = _mu(s, s.xi)
+    s.mode = 0 if moreau else F.decide_mode(a, mu)
+    holds = holds_scale[0] * mu >= holds_scale[1] if moreau else _holds(s, mu)
+    if s.mode == 0 and holds:
+        s.at_rest = True
+        if until != R.UNTIL_PERIODS:
+            s.stop_n, s.stop_tau = 0, s.tau0
+            return STOP_REST
+    return DONE
+
+
+@jit
+def _region_of_mask(regions):
+    if regions == 1 << LOW:
+        return LOW
+    if regions == 1 << HIGH:
+        return HIGH
+    return -1
+
+
+@jit
+def _cycle(s, hist, count, max_cycle, exact, swing):
+    """The shortest k-period cycle ending now, or k = 0: (k, advance, region, lo, hi).
+
+    ``exact``: a bit-exact repeat, of (v, mode) when all k periods stayed in one region of
+    constant friction (translation invariance, region >= 0, advance = the displacement over
+    the cycle), else of (x, v, mode) (region -1, advance 0).  Otherwise a near repeat (see
+    NEAR_ULPS, MOTION_FACTOR).  lo/hi: the extreme displacements within the cycle.
+    ``hist`` is a ring of the last ``max_cycle`` periods, the newest at (count - 1) mod max_cycle.
+    """
+    tol_x = NEAR_ULPS * _EPS * (abs(s.xi) + (s.w if s.zone else 0.0))
+    tol_v = NEAR_ULPS * _EPS * (abs(s.v) + swing)
+    last = (count - 1) % max_cycle
+    idx = last + 1
+    for k in range(1, min(count, max_cycle) + 1):
+        idx -= 1                      # the period that started k periods ago
+        if idx < 0:
+            idx += max_cycle
+        h = hist[idx]
+        if h.mode != s.mode:
+            continue
+        dv = abs(h.v - s.v)
+        if exact and dv != 0.0 or not exact and dv > tol_v:
+            continue
+        region = _region_of_mask(h.regions)
+        j = idx
+        for _ in range(k - 1):
+            j += 1
+            if j >= max_cycle:
+                j -= max_cycle
+            if _region_of_mask(hist[j].regions) != region:
+                region = -1
+        if region < 0:
+            dx = abs(h.xi - s.xi)
+            if exact and dx != 0.0 or not exact and (dx > tol_x or s.path - h.path <= MOTION_FACTOR * tol_x):
+                continue
+        cum = 0.0
+        lo = 0.0
+        hi = 0.0
+        j = idx
+        for _ in range(k):
+            p = hist[j]
+            lo = min(lo, cum + p.lo)
+            hi = max(hi, cum + p.hi)
+            cum += p.dxp
+            j += 1
+            if j >= max_cycle:
+                j -= max_cycle
+        return k, (cum if region >= 0 else 0.0), region, lo, hi
+    return 0, 0.0, -1, 0.0, 0.0
+
+
+@jit
+def _verdict(s, region, advance):
+    """NEVER_STOPS reason for a cycle (until='rest'), or -1 (no verdict: it moves on)."""
+    if region < 0:
+        return _PERIODIC
+    if not s.zone:
+        return _PERIODIC if advance == 0.0 else (
+            _WALK_FORWARD if advance > 0.0 else _WALK_BACKWARD)
+    if region == LOW and advance <= 0.0:
+        return _PERIODIC if advance == 0.0 else _WALK_BACKWARD
+    if region == HIGH and advance >= 0.0:
+        return _PERIODIC if advance == 0.0 else _WALK_FORWARD
+    return -1
+
+
+@jit
+def _skippable(s, region, advance, lo, hi, cycles):
+    """How many of ``cycles`` repeats keep the mass in its region of constant friction
+    (one cycle of margin: the following cycle is simulated normally)."""
+    if not s.zone or advance == 0.0:
+        return cycles
+    if region == LOW and advance > 0.0:
+        room = -(s.xi + hi)
+    elif region == HIGH and advance < 0.0:
+        room = s.xi + lo - s.w
+    else:
+        return cycles
+    return max(0, min(cycles, int(math.floor(room / abs(advance))) - 1))
+
+
+@jit
+def _after_period(s, hist, count, max_cycle, swing, until, total, fast_forward, v0, mode0, xi0, path0):
+    """After a completed period that started in state (v0, mode0, xi0): record it, then
+    decide (until='rest', 'stick') or fast-forward on a repeating period-boundary state.
+    Returns (reason or -1 to go on, history count, horizon reached)."""
+    h = hist[count % max_cycle]
+    h.v, h.xi, h.mode, h.path = v0, xi0, mode0, path0
+    h.dxp, h.lo, h.hi, h.regions = s.dxp, s.lo, s.hi, s.regions
+    count += 1
+    if s.n >= total:
+        return -1, count, True
+    if until == R.UNTIL_PERIODS and not fast_forward:
+        return -1, count, False             # nothing to decide, nothing to skip
+    if until == R.UNTIL_CYCLE:
+        # The periodic motion itself: the shortest k at which the state repeats exactly or to
+        # the near-repeat tolerance (an attracting orbit can settle into an ulp-level 2-cycle).
+        k, advance, region, lo, hi = _cycle(s, hist, count, max_cycle, True, swing)
+        kn, an, rn, ln, hn = _cycle(s, hist, count, max_cycle, False, swing)
+        if kn > 0 and (k == 0 or kn < k):
+            k, advance, region = kn, an, rn
+        if k > 0:
+            reason = _verdict(s, region, advance)
+            if reason >= 0:
+                s.advance, s.cycle, s.cycle_region = advance / k, k, region
+                return reason, count, False
+        return -1, count, False
+    k, advance, region, lo, hi = _cycle(s, hist, count, max_cycle, True, swing)
+    if k > 0:
+        if until != R.UNTIL_PERIODS:
+            reason = _verdict(s, region, advance)
+            if reason >= 0:
+                s.advance, s.cycle, s.cycle_region = advance / k, k, region
+                return reason, count, False
+        if fast_forward:
+            cycles = (total - s.n) // k
+            if region >= 0:
+                cycles = _skippable(s, region, advance, lo, hi, cycles)
+                s.xi += cycles * advance
+            if cycles > 0:
+                s.n += cycles * k
+                s.fast_forward += cycles * k
+                count = 0
+        return -1, count, False
+    if until == R.UNTIL_REST or until == R.UNTIL_STICK:
+        k, advance, region, lo, hi = _cycle(s, hist, count, max_cycle, False, swing)
+        if k > 0:
+            reason = _verdict(s, region, advance)
+            if reason >= 0:
+                s.advance, s.cycle, s.cycle_region = advance / k, k, region
+                return reason, count, False
+    return -1, count, False
+
+
+@jit
+def _finish(s, code, reason, until):
+    """The reason a run ended (from the stepper's stop code if no verdict) and its end time."""
+    if reason < 0:
+        if code == STOP_REST:
+            reason = _REST
+        elif code == STOP_ACCUMULATION:
+            reason = _ACCUMULATION
+            s.xi, s.v = s.xs, 0.0
+        elif code == STOP_FIRST_STICK:
+            reason = _FIRST_STICK
+        elif code == STOP_BUDGET:
+            reason = _MAX_EVENTS
+        elif code == STOP_STALL:
+            reason = _STALL
+        elif until == R.UNTIL_PERIODS:
+            reason = _PERIODS
+        elif s.zone and s.xi_max >= 0.0:
+            reason = _BOUNDED
+        else:
+            reason = _MAX_PERIODS
+    s.reason = reason
+    if code != DONE or reason == _NONFINITE:
+        s.n_end, s.tau_end = s.stop_n, s.stop_tau
+    else:
+        s.n_end, s.tau_end = s.n, s.tau0
+
+
+@jit
+def drive(s, method, row, until, total, max_events, max_cycle, acc_tol, bnd, cross, record, fast_forward, hist,
+          arcs, events, samples, sample_steps, fixed_point, fp_tol, fp_max_iter):
+    """Run member ``s`` to its outcome (module docstring), recording into the buffers if asked.
+
+    ``hist`` is scratch space for ``max_cycle`` period records; ``fast_forward`` allows
+    skipping bit-exact repeating periods (off while recording).  ``record`` is a
+    compile-time constant (two specialisations), so a run that records nothing carries no
+    recording code in its loops.
+    """
+    literally(record)
+    _prepare(s, row, method, acc_tol)
+    swing = row[R.SWING]
+    if method == R.EXACT_SMOOTH:
+        grid, g_yd, g_ydd = _smooth_grid(row, s.tau0)
+        a0 = g_ydd[0]
+    else:
+        grid, g_yd, g_ydd = np.empty(0), np.empty(0), np.empty(0)
+        a0 = _pw_acc(row, s.tau0) if method == R.EXACT_PIECEWISE else 0.0
+    count = 0
+    reason = -1
+    moreau = method == R.MOREAU
+    code = _start(s, a0, until, moreau, (row[R.DATA + 1], row[R.DATA + 2]) if moreau else (0.0, 0.0))
+    _crossed(s, bnd, cross, _STICK_ARC, 0.0, s.xi, s.v, 0.0, s.xi, s.v, 0, s.tau0, 0.0)
+    while code == DONE and s.n < total:
+        v0, mode0, xi0, path0 = s.v, s.mode, s.xi, s.path
+        if method == R.EXACT_PIECEWISE:
+            code = _period_piecewise(s, row, until, max_events, bnd, cross, record, arcs, events)
+        elif method == R.EXACT_SMOOTH:
+            code = _period_smooth(s, row, until, max_events, bnd, cross, record, arcs, events,
+                                                grid, g_yd, g_ydd)
+        else:
+            code = _period_moreau(s, row, until, bnd, cross, record, samples, sample_steps,
+                                           fixed_point, fp_tol, fp_max_iter)
+        if not (math.isfinite(s.xi) and math.isfinite(s.v)):
+            s.xi, s.v, s.mode = xi0, v0, mode0
+            if code == DONE:
+                s.n -= 1
+            s.stop_n, s.stop_tau = s.n, s.tau0
+            reason = _NONFINITE
+            break
+        if code != DONE:
+            break
+        reason, count, horizon = _after_period(s, hist, count, max_cycle, swing, until, total,
+                                               fast_forward and not record, v0, mode0, xi0, path0)
+        if reason >= 0 or horizon:
+            break
+    _finish(s, code, reason, until)
+    if record and method == R.MOREAU:
+        _record_sample(samples, s, s.n_end, s.tau_end, s.xi, s.v, s.mode)
+
+
+@jit
+def run_members(members, method, table, until, total, max_events, max_cycle, acc_tol, bnd, cross, fast_forward,
+                fixed_point, fp_tol, fp_max_iter, hist, arcs, events, samples, steps):
+    """Drive every member (no recording): the batch, and one trajectory without series.
+    ``hist`` is scratch space (HIST_DTYPE, max_cycle records); the recording buffers are
+    passed (empty) only so that the same :func:`drive` serves both entry points.  Every
+    record array is allocated by the caller (numpy record arrays, so that the kernel also
+    runs uncompiled, NUMBA_DISABLE_JIT=1)."""
+    for i in range(members.shape[0]):
+        s = members[i]
+        drive(s, method, table[s.profile], until, total, max_events, max_cycle, acc_tol, bnd[i], cross[i], False,
+              fast_forward, hist, arcs, events, samples, steps, fixed_point, fp_tol, fp_max_iter)
+
+
+@jit
+def run_recorded(members, method, table, until, total, max_events, max_cycle, acc_tol, bnd, cross,
+                 fixed_point, fp_tol, fp_max_iter, hist, arcs, events, samples, sample_steps):
+    """Drive member 0 recording its arcs and events (exact) or samples (Moreau) into the
+    buffers; the member's n_arcs, n_events, n_samples say how many there were (a buffer
+    that was too small holds the first ones only: run again with larger buffers)."""
+    s = members[0]
+    drive(s, method, table[s.profile], until, total, max_events, max_cycle, acc_tol, bnd[0], cross[0], True, False,
+          hist, arcs, events, samples, sample_steps, fixed_point, fp_tol, fp_max_iter)
+
+
+# ----------------------------------------------------------------------------------------
+# Entry points for a stepper written in Python (ivp): the same decisions, on member 0
+# ----------------------------------------------------------------------------------------
+
+@jit
+def begin_entry(members, row, method, acc_tol, a, until):
+    """:func:`_prepare` and :func:`_start` on member 0; returns the start code."""
+    s = members[0]
+    _prepare(s, row, method, acc_tol)
+    return _start(s, a, until, False, (0.0, 0.0))
+
+
+@jit
+def stick_entry(members, xi, mu, n, tau, until):
+    """:func:`_on_stick` on member 0."""
+    return _on_stick(members[0], xi, mu, n, tau, until, _holds(members[0], mu))
+
+
+@jit
+def moved_entry(members, xi0, xi1):
+    """Path and largest x after a move of member 0 (no boundary crossings are tracked)."""
+    s = members[0]
+    s.path += abs(xi1 - xi0)
+    if xi1 > s.xi_max:
+        s.xi_max = xi1
+
+
+@jit
+def after_period_entry(members, hist, count, max_cycle, swing, until, total, fast_forward, v0, mode0, xi0,
+                       path0):
+    """:func:`_after_period` on member 0."""
+    return _after_period(members[0], hist, count, max_cycle, swing, until, total, fast_forward, v0, mode0, xi0,
+                         path0)
+
+
+@jit
+def modes(v, ydd, mu):
+    """The model's mode at states (v, y'', mu_bar): the sign of v, at v = 0 :func:`decide_mode`."""
+    out = np.empty(v.shape[0], dtype=np.int8)
+    for i in range(v.shape[0]):
+        out[i] = 1 if v[i] > 0.0 else (-1 if v[i] < 0.0 else F.decide_mode(ydd[i], mu[i]))
+    return out
+
+
+@jit
+def finish_entry(members, code, reason, until):
+    """:func:`_finish` on member 0."""
+    _finish(members[0], code, reason, until)
+
+
+# ----------------------------------------------------------------------------------------
+# Dense output of the exact solver: evaluate the recorded arcs on the sample grid
+# ----------------------------------------------------------------------------------------
+
+@jit
+def sample_arcs(arcs, row, tau0, spp):
+    """Samples on the grid t = tau0 + j dt / spp plus every arc start (the state after each
+    event): each arc with a positive duration contributes its start and the grid points
+    strictly inside it; the last arc (the end state) contributes its start only.
+    Returns (period, tau, x, v, mode) with tau measured from the arc's period start."""
+    dt = row[R.DT]
+    h = dt / spp
+    na = arcs.shape[0]
+    total = 0
+    for pass_ in range(2):
+        if pass_ == 1:
+            period = np.empty(total, dtype=np.int64)
+            tau = np.empty(total)
+            x = np.empty(total)
+            v = np.empty(total)
+            mode = np.empty(total, dtype=np.int8)
+        k = 0
+        for i in range(na):
+            arc = arcs[i]
+            last = i == na - 1
+            if arc.duration <= 0.0 and not last:
+                continue
+            off = arc.tau - tau0
+            base = arc.period
+            if off < 0.0:
+                off += dt
+                base -= 1
+            j_lo = int(math.floor(off / h)) + 1
+            j_hi = min(int(math.ceil((off + arc.duration) / h)) - 1, spp - 1)
+            count = 1 if last else 1 + max(0, j_hi - j_lo + 1)
+            if pass_ == 0:
+                total += count
+                continue
+            for r in range(count):
+                if r == 0:
+                    sr = 0.0
+                    pn, pt = arc.period, arc.tau
+                else:
+                    j = j_lo + r - 1
+                    sr = min(max(j * h - off, 0.0), arc.duration)
+                    pn, pt = _norm(base, tau0 + j * h, dt)
+                if arc.kind == _SMOOTH:
+                    sig = float(arc.mode)
+                    y0, yd0, _ = _fourier(row, arc.tau)
+                    y1, yd1, _ = _fourier(row, arc.tau + sr)
+                    dx = arc.v * sr - 0.5 * sig * sr * sr - (y1 - y0 - yd0 * sr)
+                    vv = arc.v - sig * sr - (yd1 - yd0)
+                else:
+                    dx, vv = A.step(arc.kind, arc.omega, arc.v, arc.acc, sr)
+                period[k] = pn
+                tau[k] = pt
+                x[k] = arc.x + dx
+                v[k] = vv
+                mode[k] = arc.mode
+                k += 1
+    return period, tau, x, v, mode

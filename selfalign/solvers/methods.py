@@ -1,0 +1,170 @@
+"""What each method can simulate and which options it takes, declared once.
+
+A scene file is checked against these declarations when it is loaded
+(:func:`selfalign.io.scene_files.scene_from_dict` calls :func:`check_scene`), so a
+scene a method cannot simulate, or an option it does not take or a value it cannot
+use, is refused before any work starts, in one line naming the option and what is
+allowed.  :func:`resolve` fills in the defaults.  Nothing here imports numba or scipy.
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+from dataclasses import dataclass, field
+from typing import Callable
+
+from ..model.friction import StopZone
+from ..model.profiles import FourierProfile
+
+#: Most Moreau steps per period: the table impulses of one period are kept in memory
+#: (8 bytes each), and more steps than this would take hours per period anyway.
+MAX_STEPS_PER_PERIOD = 10_000_000
+#: The integrators of scipy.integrate.solve_ivp the ivp method can use.
+INTEGRATORS = ("RK23", "RK45", "DOP853", "Radau", "BDF", "LSODA")
+#: Iterations of the implicit Moreau step.
+ITERATIONS = ("exact", "fixed_point")
+
+
+def _real(name, value, low=0.0, high=math.inf, low_open=True, high_open=True):
+    ok = isinstance(value, numbers.Real) and not isinstance(value, bool) and math.isfinite(value)
+    ok = ok and (value > low if low_open else value >= low) and (value < high if high_open else value <= high)
+    if not ok:
+        lo = f"{'>' if low_open else '>='} {low:g}"
+        hi = "" if high == math.inf else f" and {'<' if high_open else '<='} {high:g}"
+        raise ValueError(f"option {name} must be a finite number {lo}{hi}, got {value!r}")
+    return float(value)
+
+
+def _integer(name, value, low=1):
+    if isinstance(value, bool) or not (isinstance(value, numbers.Integral)
+                                       or isinstance(value, float) and value.is_integer()) or value < low:
+        raise ValueError(f"option {name} must be an integer >= {low}, got {value!r}")
+    return int(value)
+
+
+def _choice(name, value, allowed):
+    if value not in allowed:
+        raise ValueError(f"option {name} must be one of {list(allowed)}, got {value!r}")
+    return value
+
+
+@dataclass(frozen=True)
+class Option:
+    """One option: its default and the check that returns the value to use (or raises)."""
+
+    default: object
+    check: Callable
+    help: str
+
+
+@dataclass(frozen=True)
+class Method:
+    """A method: its options and what it refuses (``refuses(scene)`` returns a reason or None)."""
+
+    name: str
+    summary: str
+    options: dict = field(default_factory=dict)
+    refuses: Callable = lambda scene: None
+
+
+def _exact_refuses(scene):
+    if isinstance(scene.profile, FourierProfile) and isinstance(scene.surface, StopZone):
+        return ("method 'exact' cannot simulate a Fourier profile on a stop zone (no closed-form arcs with "
+                "position-dependent friction and smooth y''); use method 'moreau' or 'ivp'")
+    if not (getattr(scene.profile, "piecewise_constant", False) or isinstance(scene.profile, FourierProfile)):
+        return f"method 'exact' needs a piecewise-constant or Fourier profile, got {type(scene.profile).__name__}"
+    return None
+
+
+def _moreau_h(name, value):
+    return None if value is None else _real(name, value)
+
+
+METHODS = {
+    "exact": Method("exact", "event-driven, closed-form arcs and event times", {
+        "accumulation_tol": Option(1e-12, lambda n, v: _real(n, v),
+                                   "an accumulation ends within this distance of x_stick_min"),
+        "max_events": Option(50_000_000, lambda n, v: _integer(n, v), "event budget of the run"),
+    }, _exact_refuses),
+    "moreau": Method("moreau", "Moreau midpoint time-stepping with the exact table impulse of each step", {
+        "h": Option(None, _moreau_h, "time step (adjusted down to dt / N); None: dt / 1000"),
+        "steps_per_period": Option(None, lambda n, v: None if v is None else _integer(n, v),
+                                   "N steps per period instead of h (h = dt / N); not with h"),
+        "iteration": Option("exact", lambda n, v: _choice(n, v, ITERATIONS),
+                            "implicit friction step: exact soft threshold or the paper's fixed-point iteration"),
+        "fp_tol": Option(1e-14, lambda n, v: _real(n, v), "fixed-point iteration: stop when v changes by <= this"),
+        "fp_max_iter": Option(200, lambda n, v: _integer(n, v), "fixed-point iteration: most sweeps per step"),
+        "accumulation_tol": Option(1e-12, lambda n, v: _real(n, v),
+                                   "an accumulation ends within this distance of the scheme's x_stick_min"),
+    }),
+    "ivp": Method("ivp", "scipy.integrate.solve_ivp mode by mode with event location", {
+        "rtol": Option(1e-8, lambda n, v: _real(n, v, 0.0, 1.0), "relative tolerance of solve_ivp"),
+        "atol": Option(1e-10, lambda n, v: _real(n, v), "absolute tolerance of solve_ivp"),
+        "integrator": Option("DOP853", lambda n, v: _choice(n, v, INTEGRATORS), "solve_ivp method"),
+        "max_events": Option(1_000_000, lambda n, v: _integer(n, v), "event budget of the run"),
+        "accumulation_tol": Option(1e-12, lambda n, v: _real(n, v),
+                                   "an accumulation ends within this distance of x_stick_min"),
+    }),
+}
+
+
+def resolve(method: str, options: dict) -> dict:
+    """The options of ``method`` with defaults filled in and every value checked.
+
+    ValueError naming an unknown method, an unknown option, or a value that is not
+    allowed (and what is).
+    """
+    if method not in METHODS:
+        raise ValueError(f"unknown method {method!r}; allowed: {', '.join(METHODS)}")
+    spec = METHODS[method].options
+    unknown = sorted(set(options) - set(spec))
+    if unknown:
+        raise ValueError(f"unknown option(s) {unknown} for method {method!r}; allowed: {sorted(spec)}")
+    return {name: opt.check(name, options[name]) if name in options else opt.default
+            for name, opt in spec.items()}
+
+
+def steps_per_period(dt: float, h) -> tuple[int, float]:
+    """N = ceil(dt / h) Moreau steps per period (a ratio within 1e-9 of an integer counts
+    as that integer) and the step h = dt / N used; ``h=None`` means dt / 1000.
+
+    ValueError unless 0 < h <= dt and N <= :data:`MAX_STEPS_PER_PERIOD`.
+    """
+    if h is None:
+        return 1000, dt / 1000
+    if not (isinstance(h, numbers.Real) and not isinstance(h, bool) and math.isfinite(h) and 0 < h <= dt):
+        raise ValueError(f"option h (time step) must be a finite number in (0, dt = {dt!r}], got {h!r}")
+    ratio = dt / h
+    n = round(ratio)
+    if abs(ratio - n) > 1e-9 * ratio:
+        n = math.ceil(ratio)
+    n = max(int(n), 1)
+    if n > MAX_STEPS_PER_PERIOD:
+        raise ValueError(f"option h = {h!r} needs {n:.3g} Moreau steps per period; at most "
+                         f"{MAX_STEPS_PER_PERIOD:,} are allowed (the table impulses of one period are kept in "
+                         f"memory, {8 * n / 1e9:.2g} GB here)")
+    return n, dt / n
+
+
+def check_scene(scene, method: str | None = None, options: dict | None = None) -> dict:
+    """Check that ``method`` (default: the scene's) can simulate ``scene`` with ``options``
+    (default: the scene's solver options); return the resolved options.  ValueError with
+    the reason otherwise."""
+    method = scene.method if method is None else method
+    options = resolve(method, scene.solver_options if options is None else options)
+    reason = METHODS[method].refuses(scene)
+    if reason:
+        raise ValueError(reason)
+    if method == "moreau":
+        moreau_step(scene.profile.dt, options)
+    return options
+
+
+def moreau_step(dt: float, options: dict) -> tuple[int, float]:
+    """(N, h) of the Moreau options ``h`` or ``steps_per_period`` for a period ``dt``."""
+    if options.get("steps_per_period") is not None:
+        if options.get("h") is not None:
+            raise ValueError("options h and steps_per_period exclude each other; give one")
+        return steps_per_period(dt, dt / options["steps_per_period"])
+    return steps_per_period(dt, options.get("h"))
