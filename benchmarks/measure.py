@@ -118,8 +118,9 @@ def batched_sweep(n: int = 64, periods: int = 20, repeat: int = 2) -> list[dict]
     allow: :data:`FLOPS_PER_EVENT` divided into (a) the measured numpy elementwise rate at
     this batch size and (b) the measured single-core floating-point peak.
     """
-    from selfalign.solvers import moreau
     from selfalign.solvers.batch import solve_batch, three_phase_pieces
+
+    from selfalign.solvers import moreau
 
     y2, y3 = _sweep_grid(n)
     breaks, accels = three_phase_pieces(PROFILE.dt, PROFILE.dy, y2, y3)

@@ -12,8 +12,8 @@ import pytest
 
 from selfalign import load_scene
 from selfalign.analysis.accuracy import StudySettings, fit_loglog, loglog_interpolate, study
-from selfalign.io.hdf5 import read_h5, write_h5
 from selfalign.analysis.steady_state import steady_state
+from selfalign.io.hdf5 import read_h5, write_h5
 
 #: Small settings: Moreau n = 100 .. 1e5 steps per period (3 decades, 13 values), solve_ivp at
 #: three tolerances, every run timed once.

@@ -11,14 +11,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
+from figcheck import figure_data
 from matplotlib.colors import to_rgb
 
 from selfalign.analysis.classification import CASE_LABELS, DECISION_TREE, Decision, DecisionTree
-from figcheck import figure_data
-from selfalign.plots.classification import CASE_COLORS, figure_08, tree_layout
 from selfalign.io.hdf5 import read_h5, write_h5
-from selfalign.analysis.studies import MAP_FIELDS, gather_map, map_shard, shard_rows
-
+from selfalign.plots.classification import CASE_COLORS, figure_08, tree_layout
+from selfalign.stages.classification import MAP_FIELDS, gather_map, map_shard
+from selfalign.stages.common import shard_rows
 
 REPO = Path(__file__).resolve().parents[1]
 

@@ -195,7 +195,9 @@ def test_hyperbolic_arc_matches_high_accuracy_ivp():
         dx, v = arcs.step(arcs.HYPERBOLIC, om, v0, acc0, 0.4)
         assert abs(dx - sol.y[0, -1]) <= 1e-10 and abs(v - sol.y[1, -1]) <= 1e-10 * max(1.0, abs(v))
         s_zero = arcs.zero_velocity_time(arcs.HYPERBOLIC, om, -1, v0, acc0)
-        zero = lambda t, y: y[1]
+        def zero(t, y):
+            return y[1]
+
         zero.terminal, zero.direction = True, 1
         ref = _ivp_arc(acc0, b1, v0, 5.0, events=[zero]).t_events[0]
         if v0 < 0.0 and ref.size:
@@ -203,7 +205,9 @@ def test_hyperbolic_arc_matches_high_accuracy_ivp():
         else:
             assert s_zero == math.inf and (ref.size == 0 or ref[0] == 0.0)
         delta = 0.01                                   # boundary 0.01 below the start
-        cross = lambda t, y: y[0] + delta
+        def cross(t, y):
+            return y[0] + delta
+
         cross.terminal = True
         ref = _ivp_arc(acc0, b1, v0, 5.0, events=[cross, zero]).t_events
         s_cross = arcs.crossing_time(arcs.HYPERBOLIC, om, v0, acc0, delta)

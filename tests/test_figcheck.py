@@ -2,9 +2,8 @@ import copy
 import json
 
 import numpy as np
-from matplotlib.figure import Figure
-
 from figcheck import compare_figure_data, compare_pixels, figure_data, load_reference, save_reference
+from matplotlib.figure import Figure
 
 
 def make_figure(scale=1.0, label="part", nan=True):

@@ -15,12 +15,12 @@ import matplotlib
 import numpy as np
 import pytest
 import yaml
+from figcheck import compare_figure_data, compare_pixels, figure_data, load_reference, save_reference
 
 from selfalign import load_scene
-from figcheck import compare_figure_data, compare_pixels, figure_data, load_reference, save_reference
-from selfalign.stages.common import figure_07, profile_samples, save_figure
-from selfalign.model.profiles import ThreePhaseProfile
 from selfalign.io.hdf5 import read_h5, write_h5
+from selfalign.model.profiles import ThreePhaseProfile
+from selfalign.stages.common import figure_07, profile_samples, save_figure
 
 #: Relative tolerance on figure data: the numbers come from closed forms, so only rounding differs.
 RTOL = 1e-9
@@ -154,7 +154,7 @@ def build_classification_figure(name, repo, tmp_path, change=None):
 
     from selfalign.analysis.classification import DECISION_TREE, DecisionTree
     from selfalign.plots.classification import figure_04, figure_05, figure_08, figure_map
-    from selfalign.analysis.studies import gather_map, map_shard, polynomial_sweep
+    from selfalign.stages.classification import gather_map, map_shard, polynomial_sweep
 
     stage, figures = classification_config(repo)
     h5 = tmp_path / f"{name}.h5"
@@ -219,7 +219,7 @@ FIG06_TEST_ITERATIONS = 2
 def build_fig06(repo, tmp_path, dy_factor=1.0):
     """Fig. 6 from fig06_results with FIG06_TEST_ITERATIONS SLSQP iterations."""
     from selfalign.plots.classification import figure_06
-    from selfalign.analysis.studies import fig06_results
+    from selfalign.stages.classification import fig06_results
 
     p = classification_config(repo)[0]["fourier"]
     datasets, attrs, _ = fig06_results(p["dt"], p["dy"] * dy_factor, p["yd_max"], p["ydd_max"], order=p["order"],

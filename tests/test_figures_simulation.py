@@ -14,15 +14,15 @@ by the workflow from the full study) is not.
 
 import pytest
 import yaml
+from figcheck import compare_figure_data, figure_data, load_reference, save_reference
 from test_figures import ATOL, RTOL, assert_data_matches, assert_pixels_match
 
 from selfalign import load_scene, simulate
 from selfalign.analysis.accuracy import StudySettings, study
 from selfalign.analysis.classification import CASE_LABELS, classify
-from figcheck import compare_figure_data, figure_data, load_reference, save_reference
-from selfalign.plots.simulation import figure_03, figure_09, figure_12, figure_accuracy_cost
-from selfalign.model.profiles import ThreePhaseProfile
 from selfalign.io.hdf5 import read_h5, write_h5
+from selfalign.model.profiles import ThreePhaseProfile
+from selfalign.plots.simulation import figure_03, figure_09, figure_12, figure_accuracy_cost
 from selfalign.stages.simulation import trajectory_content
 
 FIGURES = ("fig03", "fig09", "fig12")

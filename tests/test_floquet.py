@@ -9,8 +9,16 @@ import re
 import numpy as np
 import pytest
 
-from selfalign import (FourierProfile, PolynomialProfile, Record, Scene, StopZone, ThreePhaseProfile, load_scene,
-                       simulate)
+from selfalign import (
+    FourierProfile,
+    PolynomialProfile,
+    Record,
+    Scene,
+    StopZone,
+    ThreePhaseProfile,
+    load_scene,
+    simulate,
+)
 from selfalign.analysis.floquet import (
     EXACT_EPS,
     floquet,

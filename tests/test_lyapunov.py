@@ -6,10 +6,10 @@ import pytest
 
 from selfalign import FourierProfile, PolynomialProfile, Scene, StopZone, ThreePhaseProfile, load_scene
 from selfalign.analysis.lyapunov import convergence_result, lyapunov_trace, recording_series, scene_trace
-from selfalign.io.recording import read_recording, write_recording
-from selfalign.io.hdf5 import read_h5, write_h5
-from selfalign.solvers.driver import simulate_batch
 from selfalign.analysis.steady_state import steady_state
+from selfalign.io.hdf5 import read_h5, write_h5
+from selfalign.io.recording import read_recording, write_recording
+from selfalign.solvers.driver import simulate_batch
 
 EPS = np.finfo(float).eps
 

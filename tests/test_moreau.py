@@ -118,8 +118,8 @@ def test_table_impulses_are_the_exact_integral_of_the_acceleration():
             if profile.piecewise_constant:
                 inside = profile.piece_index(np.mod(t[:-1], profile.dt)) == profile.piece_index(
                     np.mod(t[1:] - 1e-12, profile.dt))
-                np.testing.assert_array_equal(impulse[inside],
-                                              profile.accels[profile.piece_index(np.mod(t[:-1], profile.dt))][inside] * h)
+                accel = profile.accels[profile.piece_index(np.mod(t[:-1], profile.dt))]
+                np.testing.assert_array_equal(impulse[inside], accel[inside] * h)
 
 
 def test_a_phase_shorter_than_the_step_is_not_missed():

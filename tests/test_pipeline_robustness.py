@@ -15,7 +15,8 @@ import time
 
 import numpy as np
 import pytest
-from conftest import SNAKEMAKE, copy_workflow, run_snakemake as snakemake
+from conftest import SNAKEMAKE, copy_workflow
+from conftest import run_snakemake as snakemake
 
 from selfalign.io.hdf5 import read_h5
 

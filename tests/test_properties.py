@@ -13,7 +13,8 @@ import math
 import os
 
 import numpy as np
-from hypothesis import HealthCheck, given, settings, strategies as st
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 import selfalign as sa
 from selfalign.solvers.outcomes import STICK

@@ -6,8 +6,8 @@ import tomllib
 import pytest
 import yaml
 
-from selfalign.stages.common import profile_samples
 from selfalign.io.scene_files import load_scene, scene_schema
+from selfalign.stages.common import profile_samples
 
 BEGIN, END = "<!-- quick-start:begin -->", "<!-- quick-start:end -->"
 SETUP = "python3 -m venv .venv && .venv/bin/pip install -e '.[test]' && "

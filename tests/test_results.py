@@ -4,7 +4,8 @@ import time
 import h5py
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import selfalign
 from selfalign.io import hdf5 as results

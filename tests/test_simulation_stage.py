@@ -14,11 +14,17 @@ import pytest
 
 from selfalign import EventKind, Status, load_scene, simulate
 from selfalign.analysis.classification import classify
-from selfalign.io.recording import read_recording, write_recording
 from selfalign.io.hdf5 import read_h5, write_h5
-from selfalign.stages.simulation import (RERUN_ENTITIES, event_datasets, rerun_series, scene_from_result,
-                                          trajectory_content, trajectory_from_result)
+from selfalign.io.recording import read_recording, write_recording
 from selfalign.solvers.records import EVENT_DTYPE
+from selfalign.stages.simulation import (
+    RERUN_ENTITIES,
+    event_datasets,
+    rerun_series,
+    scene_from_result,
+    trajectory_content,
+    trajectory_from_result,
+)
 
 
 def round_trip(traj, scene, tmp_path):

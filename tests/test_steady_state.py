@@ -9,7 +9,6 @@ import pytest
 
 from selfalign import Scene, ThreePhaseProfile, simulate
 from selfalign.analysis.classification import classify, classify_grid
-from selfalign.model.profiles import three_phase_times
 from selfalign.analysis.steady_state import (
     OBJECTIVE_SCALE,
     SteadyState,
@@ -20,6 +19,7 @@ from selfalign.analysis.steady_state import (
     steady_state,
     steady_state_grid,
 )
+from selfalign.model.profiles import three_phase_times
 
 EPS = np.finfo(float).eps
 

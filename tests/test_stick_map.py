@@ -3,8 +3,7 @@
 import numpy as np
 import pytest
 
-from selfalign import StopZone, ThreePhaseProfile
-from selfalign import Status, simulate_batch
+from selfalign import Status, StopZone, ThreePhaseProfile, simulate_batch
 from selfalign.analysis.stick_map import (
     stick_map,
     stick_map_constants,

@@ -1,4 +1,5 @@
-"""Parameter studies of Sects. 4.3-5.2 (selfalign.analysis.studies): steady states by simulation, the
+"""Parameter studies of Sects. 4.3-5.2 (selfalign.analysis.steady_simulation and .fourier_design,
+selfalign.stages.classification): steady states by simulation, the
 polynomial-profile sweeps of Figs. 4-5, the Fourier shape optimisation of Fig. 6 and the
 verification of the closed-form maps of Figs. 10-11 against simulation."""
 
@@ -7,29 +8,32 @@ import pytest
 
 from selfalign import FourierProfile, PolynomialProfile, ThreePhaseProfile
 from selfalign.analysis.classification import decision_quantities
-from selfalign.model.profiles import three_phase_times
-from selfalign.analysis.steady_state import steady_state, steady_state_grid
-from selfalign.analysis.studies import (
-    OBJECTIVE_SCALE,
-    RTOL,
-    VERIFY_BAND,
-    VERIFY_RTOL,
+from selfalign.analysis.fourier_design import (
     align_to,
     best_three_phase,
-    exact_steady_state,
     fourier_start,
-    gather_map,
-    iterate_to_steady_state,
-    map_shard,
-    map_verification,
-    objective,
     optimise_fourier,
-    polynomial_sweep,
+    steady_vbar_gradient,
+    time_shift,
+)
+from selfalign.analysis.steady_simulation import (
+    RTOL,
+    exact_steady_state,
+    iterate_to_steady_state,
+    objective,
     run_periods,
     simulated_steady_state,
-    steady_vbar_gradient,
     three_phase_simulated_steady_state,
-    time_shift,
+)
+from selfalign.analysis.steady_state import OBJECTIVE_SCALE, steady_state, steady_state_grid
+from selfalign.model.profiles import three_phase_times
+from selfalign.stages.classification import (
+    VERIFY_BAND,
+    VERIFY_RTOL,
+    gather_map,
+    map_shard,
+    map_verification,
+    polynomial_sweep,
 )
 
 #: Fig. 6 settings (Sect. 4.4.2): dt, dy, y'max, y''max.

@@ -43,7 +43,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .classification import check_parameters
 from ..model.errors import check_finite, check_positive
 from ..model.friction import StopZone
 from ..model.profiles import ThreePhaseProfile, three_phase_times
@@ -51,6 +50,7 @@ from ..solvers.driver import ProfileTable, simulate_batch
 from ..solvers.exact import piecewise_rows
 from ..solvers.outcomes import STATUS_CODES, Status
 from ..solvers.records import EXACT_PIECEWISE
+from .classification import check_parameters
 from .steady_state import steady_state_grid
 from .stick_map import stick_map, stick_map_validity
 
@@ -461,7 +461,7 @@ def fig17_shard(y2, y3, rows: slice, *, dt: float, dy: float, w: float, c_mu: fl
     :func:`fig17_content` (``events`` counted over the shard) plus ``row_start``,
     ``row_stop``, ``row_step`` (the slice ``rows``).  Every setting is simulated on its own
     (batched, no coupling between members), so shards that cover the rows once
-    (:func:`selfalign.analysis.studies.shard_rows`, contiguous or interleaved) gather
+    (:func:`selfalign.stages.common.shard_rows`, contiguous or interleaved) gather
     (:func:`gather_fig17`) to the whole sweep bit for bit, for any number of shards.
     """
     y2, y3 = np.asarray(y2, dtype=float), np.asarray(y3, dtype=float)
@@ -490,7 +490,8 @@ def gather_fig17(y2, y3, shards: list[dict]):
         raise ValueError("gather_fig17: no shards given")
     setting = {k: shards[0]["attrs"][k] for k in FIG17_SETTING}
     for i, shard in enumerate(shards):
-        if {k: shard["attrs"][k] for k in FIG17_SETTING} != setting or not np.array_equal(shard["datasets"]["levels"], shards[0]["datasets"]["levels"]):
+        same_levels = np.array_equal(shard["datasets"]["levels"], shards[0]["datasets"]["levels"])
+        if {k: shard["attrs"][k] for k in FIG17_SETTING} != setting or not same_levels:
             raise ValueError(f"gather_fig17: shard {i} was computed with another setting than shard 0")
     # order[k]: the row of y2 that the k-th concatenated shard row belongs to.
     order = np.concatenate([np.arange(y2.size)[slice(int(a["row_start"]), int(a["row_stop"]), int(a["row_step"]))]
@@ -539,8 +540,8 @@ def fig18_content(profile: ThreePhaseProfile, *, w: float, c_mu: float, x_mu: fl
     """
     from ..model.scene import Record, Scene
     from ..solvers.driver import simulate
-    from .stick_map import stick_map_contraction, stick_map_simulated, stick_map_threshold
     from ..solvers.outcomes import EventKind
+    from .stick_map import stick_map_contraction, stick_map_simulated, stick_map_threshold
 
     zone = StopZone(x_mu=x_mu, w=w, c_mu=c_mu)
     kw = {"w": w, "c_mu": c_mu, "x_mu": x_mu}

@@ -65,7 +65,8 @@ class PiecewiseConstantProfile(Profile):
             raise ValueError("breaks must be 1-D with at least two entries and one entry more than accels")
         if not np.all(np.isfinite(breaks)) or breaks[0] != 0.0 or np.any(np.diff(breaks) < 0) \
                 or breaks[-1] <= 0.0:
-            raise ValueError(f"breaks must be finite, start at 0, never decrease and end at dt > 0, got {breaks.tolist()}")
+            raise ValueError("breaks must be finite, start at 0, never decrease and end at dt > 0, "
+                             f"got {breaks.tolist()}")
         if not np.all(np.isfinite(accels)):
             raise ValueError(f"accels must be finite, got {accels.tolist()}")
         keep = np.diff(breaks) > 0

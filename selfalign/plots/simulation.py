@@ -12,10 +12,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from .profile import mark_times
 from ..model.scene import Scene
-from ..stages.simulation import scene_from_result, trajectory_from_result
 from ..solvers.outcomes import EventKind
+from ..stages.simulation import scene_from_result, trajectory_from_result
+from .profile import mark_times
 
 #: Colours of the methods in the work-precision figure.
 METHOD_STYLE = {

@@ -18,7 +18,7 @@ import time
 import numpy as np
 
 from ..model.friction import StopZone, coefficient
-from ..model.profiles import FourierProfile, Profile
+from ..model.profiles import Profile
 from ..model.scene import Scene
 from . import exact, moreau
 from . import records as R

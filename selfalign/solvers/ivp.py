@@ -41,7 +41,7 @@ import numpy as np
 from ..model.friction import StopZone, coefficient, decide_mode
 from . import records as R
 from .jit import call, kernel
-from .outcomes import MAX_CYCLE, STALL_EVENTS, EventKind, LOW, ZONE, HIGH, Reason
+from .outcomes import HIGH, LOW, MAX_CYCLE, STALL_EVENTS, ZONE, EventKind, Reason
 
 #: Kernel stepper results the ivp loop produces (see :mod:`selfalign.solvers.kernel`).
 _DONE, _STOP_BUDGET, _STOP_STALL = 0, 4, 5

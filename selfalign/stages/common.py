@@ -13,8 +13,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..model.profiles import ThreePhaseProfile
 from ..io.hdf5 import atomic_path
+from ..model.profiles import ThreePhaseProfile
 from ..model.scene import Scene
 
 #: Resolution of figures written by :func:`save_figure` unless the workflow config says otherwise.
@@ -136,3 +136,18 @@ def logged(path, name: str = "selfalign"):
     finally:
         log.removeHandler(handler)
         handler.close()
+
+
+def shard_rows(rows: int, shards: int, index: int, *, interleaved: bool = False) -> slice:
+    """Rows (y2 indices) of shard ``index`` of ``shards``: contiguous, sizes differing by at most one;
+    with ``interleaved`` every ``shards``-th row from ``index`` instead, which balances the jobs of a
+    sweep whose cost is concentrated in part of the y2 range (Fig. 17)."""
+    if isinstance(shards, bool) or not isinstance(shards, (int, np.integer)) or shards < 1:
+        raise ValueError(f"shards must be an integer >= 1, got {shards!r}")
+    if not 0 <= index < shards:
+        raise ValueError(f"shard index must lie in [0, {shards}), got {index!r}")
+    if interleaved:
+        return slice(index, int(rows), int(shards))
+    base, extra = divmod(int(rows), int(shards))
+    start = index * base + min(index, extra)
+    return slice(start, start + base + (index < extra))

@@ -29,8 +29,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..model.scene import Scene
 from ..io.scene_files import scene_from_dict
+from ..model.scene import Scene
 from ..solvers.outcomes import EventKind, Reason, Status
 from ..solvers.records import EVENT_DTYPE
 from ..solvers.results import Trajectory

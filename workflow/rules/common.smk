@@ -29,7 +29,7 @@ def results(stage, name, ext="h5"):
 
 def shard_result(stage, name, shard="{shard}"):
     """Path of one shard of a sharded sweep: results/<stage>/shards/<name>_<shard>.h5 (a row
-    block of the sweep's first axis, `selfalign.analysis.studies.shard_rows`)."""
+    block of the sweep's first axis, `selfalign.stages.common.shard_rows`)."""
     return results(stage, f"shards/{name}_{shard}")
 
 

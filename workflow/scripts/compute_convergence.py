@@ -4,9 +4,9 @@
 
 from selfalign import load_scene
 from selfalign.analysis.lyapunov import convergence_result, recording_series
-from selfalign.stages.common import logged
-from selfalign.io.recording import write_recording
 from selfalign.io.hdf5 import read_h5, write_h5
+from selfalign.io.recording import write_recording
+from selfalign.stages.common import logged
 
 with logged(snakemake.log[0]) as log:
     if snakemake.rule == "record_convergence":

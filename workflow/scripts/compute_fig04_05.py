@@ -2,9 +2,9 @@
 
 import numpy as np
 
-from selfalign.stages.common import logged
 from selfalign.io.hdf5 import write_h5
-from selfalign.analysis.studies import polynomial_sweep
+from selfalign.stages.classification import polynomial_sweep
+from selfalign.stages.common import logged
 
 with logged(snakemake.log[0]) as log:
     sweep, poly = snakemake.params.sweep, snakemake.params.polynomial

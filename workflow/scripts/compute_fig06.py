@@ -1,8 +1,8 @@
 """Fig. 6: Fourier shape optimisation (Sect. 4.4.2) into results/classification/fig06.h5."""
 
-from selfalign.stages.common import logged
 from selfalign.io.hdf5 import write_h5
-from selfalign.analysis.studies import fig06_results
+from selfalign.stages.classification import fig06_results
+from selfalign.stages.common import logged
 
 with logged(snakemake.log[0]) as log:
     p = snakemake.params.fourier

@@ -5,9 +5,9 @@ from pathlib import Path
 
 import numpy as np
 
-from selfalign.stages.common import logged
 from selfalign.io.hdf5 import read_h5, write_h5
-from selfalign.analysis.studies import gather_map, map_shard, map_verification, shard_rows
+from selfalign.stages.classification import gather_map, map_shard, map_verification
+from selfalign.stages.common import logged, shard_rows
 
 with logged(snakemake.log[0]) as log:
     if snakemake.rule == "verify_fig10_11":

@@ -1,8 +1,8 @@
 """Phase portraits and end positions of Fig. 16 (and Figs. 14/15) into results/accumulation/fig16.h5."""
 
-from selfalign.stages.common import logged
-from selfalign.io.hdf5 import write_h5
 from selfalign.analysis.positioning import fig16_content
+from selfalign.io.hdf5 import write_h5
+from selfalign.stages.common import logged
 
 with logged(snakemake.log[0]) as log:
     p = snakemake.params

@@ -4,10 +4,9 @@ or the gathered results/accumulation/fig17.h5."""
 
 import numpy as np
 
-from selfalign.stages.common import logged
-from selfalign.io.hdf5 import read_h5, write_h5
 from selfalign.analysis.positioning import fig17_shard, gather_fig17
-from selfalign.analysis.studies import shard_rows
+from selfalign.io.hdf5 import read_h5, write_h5
+from selfalign.stages.common import logged, shard_rows
 
 with logged(snakemake.log[0]) as log:
     p = snakemake.params

@@ -1,9 +1,9 @@
 """The accumulation map of Fig. 18 (eq. 59 and the exact solver) into results/accumulation/fig18.h5."""
 
-from selfalign.stages.common import logged
-from selfalign.model.profiles import ThreePhaseProfile
-from selfalign.io.hdf5 import write_h5
 from selfalign.analysis.positioning import fig18_content
+from selfalign.io.hdf5 import write_h5
+from selfalign.model.profiles import ThreePhaseProfile
+from selfalign.stages.common import logged
 
 with logged(snakemake.log[0]) as log:
     p = snakemake.params

@@ -5,8 +5,8 @@ import numpy as np
 
 from selfalign import load_scene
 from selfalign.analysis.floquet import stability_grid, stability_result
-from selfalign.stages.common import logged
 from selfalign.io.hdf5 import write_h5
+from selfalign.stages.common import logged
 
 with logged(snakemake.log[0]) as log:
     if snakemake.rule == "compute_stability_grid":

@@ -1,8 +1,8 @@
 """Sample a scene's table motion into results/trajectory/<scene>.h5."""
 
 from selfalign import load_scene
-from selfalign.stages.common import logged, profile_samples
 from selfalign.io.hdf5 import write_h5
+from selfalign.stages.common import logged, profile_samples
 
 with logged(snakemake.log[0]) as log:
     scene = load_scene(snakemake.input.scene)

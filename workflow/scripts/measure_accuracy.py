@@ -2,8 +2,8 @@
 
 from selfalign import load_scene
 from selfalign.analysis.accuracy import StudySettings, study
-from selfalign.stages.common import logged
 from selfalign.io.hdf5 import write_h5
+from selfalign.stages.common import logged
 
 with logged(snakemake.log[0]) as log:
     scene = load_scene(snakemake.input.scene)

@@ -1,9 +1,9 @@
 """Fig. 9 (one steady-state time history per case of Table 1) from simulation results."""
 
 from selfalign.analysis.classification import CASE_LABELS, classify
-from selfalign.stages.common import logged, save_figure
-from selfalign.plots.simulation import figure_09
 from selfalign.io.hdf5 import read_h5
+from selfalign.plots.simulation import figure_09
+from selfalign.stages.common import logged, save_figure
 from selfalign.stages.simulation import scene_from_result
 
 with logged(snakemake.log[0]) as log:

@@ -1,8 +1,8 @@
 """Fig. 14 from results/accumulation/fig16.h5 (the setting named in the rule's params)."""
 
-from selfalign.stages.common import logged, save_figure
-from selfalign.plots.accumulation import figure_14
 from selfalign.io.hdf5 import read_h5
+from selfalign.plots.accumulation import figure_14
+from selfalign.stages.common import logged, save_figure
 
 with logged(snakemake.log[0]) as log:
     fig = figure_14(read_h5(snakemake.input[0]), snakemake.params.setting)

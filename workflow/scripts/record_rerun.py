@@ -1,8 +1,8 @@
 """Rerun recording results/rerun/<scene>.rrd of a simulation result's recorded series."""
 
-from selfalign.stages.common import logged
-from selfalign.io.recording import write_recording
 from selfalign.io.hdf5 import read_h5
+from selfalign.io.recording import write_recording
+from selfalign.stages.common import logged
 from selfalign.stages.simulation import rerun_series, trajectory_from_result
 
 with logged(snakemake.log[0]) as log:

@@ -6,6 +6,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path.cwd() / "benchmarks"))
 import measure  # noqa: E402
+
 from selfalign.stages.common import logged
 
 with logged(snakemake.log[0]) as log:

@@ -1,8 +1,8 @@
 """Simulate a scene into results/simulation/<scene>.h5 (method and options from the scene)."""
 
 from selfalign import load_scene, simulate
-from selfalign.stages.common import logged
 from selfalign.io.hdf5 import write_h5
+from selfalign.stages.common import logged
 from selfalign.stages.simulation import trajectory_content
 
 with logged(snakemake.log[0]) as log:

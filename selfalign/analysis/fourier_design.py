@@ -1,0 +1,242 @@
+"""Fig. 6 (Sect. 4.4.2): the shape of a Fourier table profile optimised for the objective f of
+eq. (11) under the actuator constraints, and the best three-phase profile (Sect. 4.4.3) under the
+same constraints, which it is compared with.
+
+The steady state of a trial profile comes from the exact solver
+(:func:`selfalign.analysis.steady_simulation.exact_steady_state`).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..model.profiles import FourierProfile, PolynomialProfile, ThreePhaseProfile, three_phase_times
+from .classification import decision_quantities
+from .steady_simulation import SimulatedSteadyState, exact_steady_state, objective, run_periods
+from .steady_state import steady_state_grid
+
+#: f reported in the caption of the paper's Fig. 6 (inconsistent with eq. 11, see the README).
+PAPER_FIG6_F = 56.0
+
+
+#: Probe offset of x'(0), relative to the velocity swing, for the slope of the period map.
+PROBE = 1e-7
+
+
+#: Period budget of one steady state in the Fourier optimisation (beyond it: time average).
+OPTIMISER_PERIODS = 5000
+
+
+def fourier_projection(profile, order: int, samples: int = 4096) -> FourierProfile:
+    """The first ``order`` harmonics of a periodic profile (FFT of ``samples`` samples)."""
+    t = np.arange(samples) * profile.dt / samples
+    spec = np.fft.rfft(profile.position(t)) * (2.0 / samples)
+    return FourierProfile(profile.dt, spec.real[1:order + 1], -spec.imag[1:order + 1])
+
+
+def fourier_start(dt: float, dy: float, order: int, forward_fraction: float = 0.8) -> FourierProfile:
+    """Deterministic start of the optimisation: the polynomial profile of Sect. 4.2 (the
+    paper's first table motion), truncated to ``order`` harmonics and scaled to stroke dy."""
+    proj = fourier_projection(PolynomialProfile(dt, dy, forward_fraction), order)
+    k = dy / proj.stroke
+    return FourierProfile(dt, k * proj.cos_coeffs, k * proj.sin_coeffs)
+
+
+@dataclass
+class FourierOptimum:
+    """Result of :func:`optimise_fourier`; ``history_f``: f at the start and after every iteration."""
+
+    profile: FourierProfile
+    start: FourierProfile
+    vbar: float
+    f: float
+    v0: float
+    history_f: np.ndarray
+    iterations: int
+    evaluations: int
+    success: bool
+    message: str
+    seconds: float
+    settings: dict = field(default_factory=dict)
+
+
+def steady_vbar_gradient(profile_of, z, steady: SimulatedSteadyState, count: int, fd_step: float) -> np.ndarray:
+    """d vbar / d z[:count] of the steady state ``steady`` of ``profile_of(z)`` by implicit
+    differentiation (:func:`optimise_fourier`); entries from ``count`` on are 0."""
+    k, v = max(int(steady.cycle[0]), 1), float(steady.v0[0])
+    base = profile_of(z)
+    p0, d0 = run_periods(base, v, k)
+    delta = PROBE * base.velocity_swing
+    pd, dd = run_periods(base, v + delta, k)
+    p_v, d_v = (pd - p0) / delta, (dd - d0) / delta
+    grad = np.zeros_like(z)
+    for i in range(count):
+        zi = z.copy()
+        zi[i] += fd_step
+        pi, di = run_periods(profile_of(zi), v, k)
+        p_z, d_z = (pi - p0) / fd_step, (di - d0) / fd_step
+        grad[i] = (d_z + d_v * p_z / (1.0 - p_v)) / (k * base.dt)
+    return grad
+
+
+def optimise_fourier(dt: float, dy: float, yd_max: float, ydd_max: float, *, order: int = 12,
+                     max_iter: int = 40, samples: int | None = None, fd_step: float = 1e-9,
+                     first_step: float = 0.02, forward_fraction: float = 0.8) -> FourierOptimum:
+    """Fig. 6 (Sect. 4.4.2): maximise vbar (i.e. minimise f, eq. 11) over the Fourier
+    coefficients of y, with SLSQP.
+
+    Variables z: the coefficients a_k, b_k (k = 1..order) in units of dy, and the
+    bounds m, M of y / dy.  Constraints, on ``samples`` equally spaced times
+    (default 64 (order + 1), the exact solver's event grid): m <= y / dy <= M
+    with M - m = 1, i.e. stroke <= dy, |y'| <= yd_max, |y''| <= ydd_max.  All
+    are linear in z, so SLSQP meets them exactly on the samples (between
+    samples a peak may exceed its bound by ~(pi / samples per shortest
+    period)^2 / 2 relative).  The stroke bound is an inequality: a dithering
+    profile (README) may do better with a slightly smaller stroke.  The true
+    stroke and peaks are reported in ``settings``.
+
+    Objective: -vbar of the steady state the exact solver reaches from rest, x'(0) = 0
+    at t = 0 (:func:`exact_steady_state`; the same start for every profile, as
+    dithering profiles can have several steady motions), scaled so that SLSQP's
+    first step (identity Hessian) has length ``first_step`` in z.  Gradient: implicit
+    differentiation of the steady state.  With P(v; z), D(v; z) the velocity and
+    displacement after the k periods of the steady cycle from x'(0) = v, the fixed
+    point v* = P(v*; z) moves by dv*/dz = P_z / (1 - P_v), so
+    dvbar/dz = (D_z + D_v dv*/dz) / (k dt); P_z, D_z are forward differences of
+    step ``fd_step`` and P_v, D_v of step PROBE * (velocity swing), each a
+    k-period run from v* — 2 (order + 1) short runs instead of 2 order steady
+    states.  A trial profile whose motion does not settle within
+    OPTIMISER_PERIODS periods gets its time-averaged vbar, and, should SLSQP ask
+    for a gradient there, the one-period linearisation at its last state.
+    Start: :func:`fourier_start`.
+
+    The path of the iterates is sensitive to rounding (the objective is not smooth
+    where a slip grazes x' = 0, and SciPy's SLSQP sums differently with the BLAS
+    thread count), so it is reproducible for a fixed thread count and machine;
+    the workflow runs it single-threaded.
+    """
+    from scipy.optimize import minimize
+
+    for name, value in (("dt", dt), ("dy", dy), ("yd_max", yd_max), ("ydd_max", ydd_max),
+                        ("fd_step", fd_step), ("first_step", first_step)):
+        if not (math.isfinite(value) and value > 0):
+            raise ValueError(f"{name} must be finite and > 0, got {value!r}")
+    if isinstance(order, bool) or not isinstance(order, int) or order < 1:
+        raise ValueError(f"order must be an integer >= 1, got {order!r}")
+    if isinstance(max_iter, bool) or not isinstance(max_iter, int) or max_iter < 1:
+        raise ValueError(f"max_iter must be an integer >= 1, got {max_iter!r}")
+    samples = 64 * (order + 1) if samples is None else int(samples)
+    start_time = time.perf_counter()
+    start = fourier_start(dt, dy, order, forward_fraction)
+    n_coef = 2 * order
+    w = 2.0 * np.pi * np.arange(1, order + 1) / dt
+    t = np.arange(samples) * dt / samples
+    cos, sin = np.cos(np.outer(t, w)), np.sin(np.outer(t, w))
+    # Rows map z to y / dy, y' and y'' at the samples.
+    zeros = np.zeros((samples, 2))
+    pos = np.hstack([cos, sin, zeros])
+    vel = dy * np.hstack([-sin * w, cos * w, zeros])
+    acc = dy * np.hstack([-cos * w**2, -sin * w**2, zeros])
+    lower, upper = np.zeros((samples, n_coef + 2)), np.zeros((samples, n_coef + 2))
+    lower[:, -2] = upper[:, -1] = 1.0
+    # Inequalities G z + g >= 0: y - m, M - y, yd_max -+ y', ydd_max -+ y''.
+    G = np.vstack([pos - lower, upper - pos, -vel, vel, -acc, acc])
+    g = np.concatenate([np.zeros(2 * samples), np.full(2 * samples, yd_max), np.full(2 * samples, ydd_max)])
+    E = np.zeros((1, n_coef + 2))
+    E[0, -1], E[0, -2] = 1.0, -1.0
+
+    def profile_of(z):
+        return FourierProfile(dt, dy * z[:order], dy * z[order:n_coef])
+
+    cache: dict[bytes, SimulatedSteadyState] = {}
+
+    def steady(z):
+        key = z.tobytes()
+        if key not in cache:
+            cache[key] = exact_steady_state(profile_of(z), max_periods=OPTIMISER_PERIODS, aperiodic="average")
+        return cache[key]
+
+    def vbar_gradient(z):
+        return steady_vbar_gradient(profile_of, z, steady(z), n_coef, fd_step)
+    z0 = np.concatenate([start.cos_coeffs / dy, start.sin_coeffs / dy, [0.0, 0.0]])
+    y0 = pos @ z0
+    z0[-2], z0[-1] = y0.min(), y0.min() + 1.0
+    scale = first_step / np.linalg.norm(vbar_gradient(z0))
+    history = [float(steady(z0).f[0])]
+    res = minimize(lambda z: -scale * float(steady(z).vbar[0]), z0, jac=lambda z: -scale * vbar_gradient(z),
+                   method="SLSQP", callback=lambda z: history.append(float(steady(z).f[0])),
+                   constraints=[{"type": "ineq", "fun": lambda z: G @ z + g, "jac": lambda z: G},
+                                {"type": "eq", "fun": lambda z: E @ z - 1.0, "jac": lambda z: E}],
+                   options={"maxiter": max_iter, "ftol": 1e-12})
+    best = profile_of(res.x)
+    final = steady(res.x)
+    vbar = float(final.vbar[0])
+    settings = {"dt": float(dt), "dy": float(dy), "yd_max": float(yd_max), "ydd_max": float(ydd_max),
+                "order": order, "max_iter": max_iter, "samples": samples, "fd_step": fd_step,
+                "first_step": first_step, "forward_fraction": float(forward_fraction), "stroke": best.stroke,
+                "peak_velocity": best.peak_velocity, "peak_acceleration": best.peak_acceleration,
+                "cycle": int(final.cycle[0])}
+    return FourierOptimum(profile=best, start=start, vbar=vbar, f=float(objective(vbar)),
+                          v0=float(final.v0[0]), history_f=np.array(history, dtype=float),
+                          iterations=int(res.nit), evaluations=len(cache), success=bool(res.success),
+                          message=str(res.message), seconds=time.perf_counter() - start_time,
+                          settings=settings)
+
+
+def best_three_phase(dt: float, dy: float, ydd_max: float, yd_max: float, *, num: int = 401,
+                     zooms: int = 3) -> ThreePhaseProfile:
+    """The three-phase profile (Sect. 4.4.3) with the smallest f (closed form, eq. 11) among
+    y2'', y3'' <= ydd_max and peak table speed max|y'| <= yd_max, by a grid search over
+    (y2'', y3'') refined ``zooms`` times around the best point."""
+    lo2 = lo3 = ydd_max / num
+    hi2 = hi3 = ydd_max
+    best = None
+    for _ in range(zooms + 1):
+        a2, a3 = np.linspace(lo2, hi2, num), np.linspace(lo3, hi3, num)
+        y2, y3 = np.meshgrid(a2, a3, indexing="ij")
+        ss = steady_state_grid(dt, dy, y2, y3)
+        qty = decision_quantities(dt, dy, y2, y3)
+        times = three_phase_times(dt, dy, y2, y3)
+        peak = np.maximum(times.yd_ini, qty["swing"] - times.yd_ini)
+        vbar = np.where((ss.case > 0) & (peak <= yd_max), ss.vbar, -np.inf)
+        i, j = np.unravel_index(np.argmax(vbar), vbar.shape)
+        if not np.isfinite(vbar[i, j]):
+            raise ValueError(f"no feasible three-phase profile with dt={dt}, dy={dy}, y'' <= {ydd_max}")
+        best = (a2[i], a3[j])
+        d2, d3 = 2 * (hi2 - lo2) / (num - 1), 2 * (hi3 - lo3) / (num - 1)
+        lo2, hi2 = max(a2[i] - d2, lo2), min(a2[i] + d2, ydd_max)
+        lo3, hi3 = max(a3[j] - d3, lo3), min(a3[j] + d3, ydd_max)
+    return ThreePhaseProfile(dt, dy, *best)
+
+
+def time_shift(profile: FourierProfile, shift: float) -> FourierProfile:
+    """The Fourier profile t -> y(t + shift) (same steady state, other phase)."""
+    arg = profile.omega * shift
+    c, s = np.cos(arg), np.sin(arg)
+    a, b = profile.cos_coeffs, profile.sin_coeffs
+    return FourierProfile(profile.dt, a * c + b * s, b * c - a * s)
+
+
+def align_to(profile: FourierProfile, reference, samples: int = 4096) -> FourierProfile:
+    """``profile`` shifted in time (by a multiple of dt / samples) so that its table velocity
+    y' best matches that of ``reference`` (largest circular cross-correlation)."""
+    t = np.arange(samples) * profile.dt / samples
+    corr = np.fft.ifft(np.fft.fft(profile.velocity(t)) * np.conj(np.fft.fft(reference.velocity(t)))).real
+    return time_shift(profile, float(np.argmax(corr)) * profile.dt / samples)
+
+
+def steady_motion(profile, v0: float, periods: int = 3, samples_per_period: int = 400) -> dict:
+    """Mass and table over ``periods`` periods from the steady state x'(0) = v0, x(0) = 0
+    (exact solver): ``t``, ``v`` (x', relative), ``y`` (table), ``x_abs`` = x + y."""
+    from ..model.scene import Record, Scene
+    from ..solvers.driver import simulate
+
+    scene = Scene(profile, x0=0.0, v0=float(v0), periods=int(periods), method="exact",
+                  record=Record(series=("x", "v", "y"), samples_per_period=samples_per_period))
+    traj = simulate(scene)
+    t, x, v, y = (np.asarray(traj.series[k], dtype=float) for k in ("t", "x", "v", "y"))
+    return {"t": t, "v": v, "y": y, "x_abs": x + y}
