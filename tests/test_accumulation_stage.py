@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 import yaml
 
-from selfalign.analysis.positioning import FIG17_FIELDS, fig17_content, fig17_shard, gather_fig17
 from selfalign.io.hdf5 import read_h5, write_h5
+from selfalign.stages.accumulation import FIG17_FIELDS, fig17_content, fig17_shard, gather_fig17
 from selfalign.stages.common import shard_rows
 
 REPO = Path(__file__).resolve().parents[1]

@@ -20,7 +20,8 @@ from figcheck import compare_figure_data, compare_pixels, figure_data, load_refe
 from selfalign import load_scene
 from selfalign.io.hdf5 import read_h5, write_h5
 from selfalign.model.profiles import ThreePhaseProfile
-from selfalign.stages.common import figure_07, profile_samples, save_figure
+from selfalign.stages.common import save_figure
+from selfalign.stages.trajectory import figure_07, profile_samples
 
 #: Relative tolerance on figure data: the numbers come from closed forms, so only rounding differs.
 RTOL = 1e-9
@@ -104,8 +105,8 @@ def test_fig07_comparison_catches_stroke_change(repo, fig07_scene, tmp_path):
 
 def build_fig13(scene, v20, tmp_path):
     """The convergence stage's steps without Snakemake: scene -> HDF5 -> figure."""
-    from selfalign.analysis.lyapunov import convergence_result
     from selfalign.plots.stability import figure_13
+    from selfalign.stages.convergence import convergence_result
 
     h5 = tmp_path / f"{scene.name}.h5"
     write_h5(h5, *convergence_result(scene, v20))

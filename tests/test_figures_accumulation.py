@@ -20,10 +20,10 @@ import yaml
 from figcheck import compare_figure_data, figure_data, load_reference
 from test_figures import ATOL, RTOL, assert_data_matches, assert_pixels_match
 
-from selfalign.analysis.positioning import fig16_content, fig17_content, fig18_content
 from selfalign.io.hdf5 import read_h5, write_h5
 from selfalign.model.profiles import ThreePhaseProfile
 from selfalign.plots.accumulation import figure_14, figure_15, figure_16, figure_17, figure_18
+from selfalign.stages.accumulation import fig16_content, fig17_content, fig18_content
 
 FIGURES = ("fig14", "fig15", "fig16", "fig17", "fig18")
 #: Figures whose committed PNG is drawn from the same data the test computes.

@@ -19,17 +19,10 @@ from selfalign import (
     load_scene,
     simulate,
 )
-from selfalign.analysis.floquet import (
-    EXACT_EPS,
-    floquet,
-    monodromy_from_record,
-    periodic_motion,
-    saltation_matrix,
-    stability_grid,
-    stability_result,
-)
+from selfalign.analysis.floquet import EXACT_EPS, floquet, monodromy_from_record, periodic_motion, saltation_matrix
 from selfalign.analysis.steady_state import steady_state_grid
 from selfalign.solvers.outcomes import EventKind
+from selfalign.stages.stability import stability_grid, stability_result
 
 #: Grids of three-phase settings (dt, dy, y2'' = y3'' axis): Fig. 17's setting holds cases 1-4,
 #: Fig. 11's cases 1, 2, 3, 5 (see tests/test_steady_state.py); dt = 1, dy = 0.2 adds a

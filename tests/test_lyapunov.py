@@ -5,11 +5,12 @@ import numpy as np
 import pytest
 
 from selfalign import FourierProfile, PolynomialProfile, Scene, StopZone, ThreePhaseProfile, load_scene
-from selfalign.analysis.lyapunov import convergence_result, lyapunov_trace, recording_series, scene_trace
+from selfalign.analysis.lyapunov import lyapunov_trace, scene_trace
 from selfalign.analysis.steady_state import steady_state
 from selfalign.io.hdf5 import read_h5, write_h5
 from selfalign.io.recording import read_recording, write_recording
 from selfalign.solvers.driver import simulate_batch
+from selfalign.stages.convergence import convergence_result, recording_series
 
 EPS = np.finfo(float).eps
 

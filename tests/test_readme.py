@@ -7,7 +7,7 @@ import pytest
 import yaml
 
 from selfalign.io.scene_files import load_scene, scene_schema
-from selfalign.stages.common import profile_samples
+from selfalign.stages.trajectory import profile_samples
 
 BEGIN, END = "<!-- quick-start:begin -->", "<!-- quick-start:end -->"
 SETUP = "python3 -m venv .venv && .venv/bin/pip install -e '.[test]' && "

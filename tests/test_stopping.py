@@ -197,9 +197,9 @@ def test_result_files_and_figures(tmp_path):
     above the threshold x_c ends at x_stick_min (1e-12), the one from below at rest beyond
     it (Fig. 18).  fig17.h5: 2-D arrays indexed [i_y2, i_y3], NaN where the mass never
     reaches the zone.  Each figure shows the data it was given."""
-    from selfalign.analysis.positioning import fig16_content, fig17_content, fig18_content
     from selfalign.io.hdf5 import read_h5, write_h5
     from selfalign.plots.accumulation import figure_14, figure_15, figure_16, figure_17, figure_18
+    from selfalign.stages.accumulation import fig16_content, fig17_content, fig18_content
 
     axis2, axis3 = np.array([1.2, 1.8, 2.3]), np.array([1.1, 1.3])
     write_h5(tmp_path / "fig17.h5", *fig17_content(axis2, axis3, dt=DT, dy=DY, w=W, c_mu=C_MU, n_entries=4))

@@ -14,7 +14,7 @@ from conftest import run_snakemake as snakemake
 import selfalign
 from selfalign import load_scene, scene_from_dict
 from selfalign.io.hdf5 import read_h5
-from selfalign.stages.common import profile_samples
+from selfalign.stages.trajectory import profile_samples
 
 NOTHING_TO_DO = "Nothing to be done"
 
