@@ -33,6 +33,10 @@ include: "workflow/rules/stability.smk"
 include: "workflow/rules/convergence.smk"
 include: "workflow/rules/classification.smk"
 include: "workflow/rules/accumulation.smk"
+include: "workflow/rules/figures.smk"
+
+
+report: "workflow/report/workflow.rst"
 
 
 rule all:

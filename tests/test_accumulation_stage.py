@@ -1,11 +1,13 @@
 """The accumulation stage of the workflow: the Fig. 17 sweep computed in shards
-(compute_fig17_shard, gather_fig17) and gathered into results/accumulation/fig17.h5."""
+(rules compute_positioning_shard, gather_positioning) and gathered into
+results/accumulation/fig17.h5."""
 
 from pathlib import Path
 
 import numpy as np
 import pytest
 import yaml
+from conftest import run_snakemake
 
 from selfalign.io.hdf5 import read_h5, write_h5
 from selfalign.stages.accumulation import FIG17_FIELDS, fig17_content, fig17_shard, gather_fig17
@@ -22,10 +24,10 @@ def stage():
 def setting(stage, entries=4, max_periods=200):
     """The stage's own setting with few entries and periods, and a coarse 5 x 4 grid over its axes
     (y2'' up to 2.5 reaches accumulation, never-stop and undecided entries)."""
-    lo, hi, _ = stage["fig17_axis"]
-    kw = dict(dt=stage["dt"], dy=stage["dy"], w=stage["w"], c_mu=stage["c_mu"], n_entries=entries,
-              max_periods=max_periods, levels=stage["levels"])
-    return np.linspace(lo, hi, 5), np.linspace(lo, hi, 4), kw
+    p, zone = stage["positioning"], stage["zone"]
+    kw = dict(dt=p["dt"], dy=p["dy"], w=zone["w"], c_mu=zone["c_mu"], n_entries=entries,
+              max_periods=max_periods, levels=p["levels"])
+    return (np.linspace(p["y2"]["from"], p["y2"]["to"], 5), np.linspace(p["y3"]["from"], p["y3"]["to"], 4), kw)
 
 
 def shards_of(y2, y3, shards, kw, interleaved=True):
@@ -71,7 +73,7 @@ def test_gathered_fig17_is_identical_for_one_and_four_shards(stage, tmp_path, in
     assert "row_start" not in one["attrs"]
     # The coarse grid reaches the zone's outcomes, so the comparison is not one of empty arrays.
     d = one["datasets"]
-    assert d["case"].shape == (5, 4) and d["level_sticks"].shape == (5, 4, len(stage["levels"]))
+    assert d["case"].shape == (5, 4) and d["level_sticks"].shape == (5, 4, len(stage["positioning"]["levels"]))
     assert np.nanmax(d["frac_accumulate"]) > 0 and np.nanmax(d["frac_never_stop"]) > 0
 
 
@@ -99,3 +101,39 @@ def test_gather_rejects_missing_repeated_or_mismatched_shards(stage):
         gather_fig17(y2, y3, [parts[0], other])
     with pytest.raises(ValueError, match="no shards"):
         gather_fig17(y2, y3, [])
+
+
+def planned_jobs(workdir, *targets):
+    """{rule: job count} of a dry run for ``targets``."""
+    rc, out = run_snakemake(workdir, "-n", "-c1", *targets, "--quiet", "rules")
+    assert rc == 0, out
+    return {line.split()[0]: int(line.split()[1]) for line in out.splitlines()
+            if len(line.split()) == 2 and line.split()[1].isdigit() and line.split()[0] != "total"}
+
+
+def test_changing_one_study_reruns_that_study_only(workdir):
+    """Issue 12: each rule gets only its own settings, so changing the Fig. 18 map's point count
+    reruns the Fig. 18 map alone (not the Fig. 17 shards), and changing the Fig. 17 entries
+    reruns the Fig. 17 shards and their gather alone.  Run on a tiny sweep in a copy of the
+    workflow."""
+    config_file = workdir / "workflow/config/config.yaml"
+    config = yaml.safe_load(config_file.read_text())
+    accumulation = config["stages"]["accumulation"]
+    for axis in ("y2", "y3"):
+        accumulation["positioning"][axis]["count"] = 3
+    accumulation["positioning"].update(n_entries=2, max_periods=20)
+    accumulation["stick_map"]["points"] = 5
+    config_file.write_text(yaml.safe_dump(config))
+    targets = ["results/accumulation/fig17.h5", "results/accumulation/fig18.h5"]
+    rc, out = run_snakemake(workdir, "-c2", *targets)
+    assert rc == 0, out
+    assert planned_jobs(workdir, *targets) == {}
+
+    accumulation["stick_map"]["points"] = 7
+    config_file.write_text(yaml.safe_dump(config))
+    assert planned_jobs(workdir, *targets) == {"compute_stick_map": 1}
+
+    accumulation["stick_map"]["points"] = 5
+    accumulation["positioning"]["n_entries"] = 3
+    config_file.write_text(yaml.safe_dump(config))
+    assert planned_jobs(workdir, *targets) == {"compute_positioning_shard": 2, "gather_positioning": 1}

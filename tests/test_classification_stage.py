@@ -169,11 +169,11 @@ def workdir(tmp_path):
 
 def test_dry_run_plans_one_job_per_shard(workdir):
     """The shard count is a config value: with `shards: 3` the stage plans 3 shard jobs per map,
-    gathered into fig10.h5 and fig11.h5, checked by verify_fig10_11, and every figure."""
+    gathered into fig10.h5 and fig11.h5, checked by verify_maps, and every figure."""
     config = workdir / "workflow/config/config.yaml"
     text = config.read_text()
-    assert text.count("    shards: 4\n") == 1
-    config.write_text(text.replace("    shards: 4\n", "    shards: 3\n"))
+    assert text.count("        shards: 4\n") == 2
+    config.write_text(text.replace("        shards: 4\n", "        shards: 3\n"))
     proc = subprocess.run([sys.executable, "-m", "snakemake", "-n", "-c1", "--quiet", "rules"], cwd=workdir,
                           capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0, proc.stdout + proc.stderr
@@ -181,6 +181,6 @@ def test_dry_run_plans_one_job_per_shard(workdir):
     counts = dict(line.split()[:2] for line in out.splitlines() if len(line.split()) == 2
                   and line.split()[1].isdigit())
     assert counts["compute_map_shard"] == "6" and counts["gather_map"] == "2"
-    for rule in ("verify_fig10_11", "compute_fig06", "plot_fig08", "plot_fig10", "plot_fig11"):
+    for rule in ("verify_maps", "optimise_fourier", "plot_fig08", "plot_fig10", "plot_fig11"):
         assert counts[rule] == "1"
     assert counts["compute_sweep"] == "2"

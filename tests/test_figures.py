@@ -12,7 +12,6 @@ import shutil
 import tomllib
 
 import matplotlib
-import numpy as np
 import pytest
 import yaml
 from figcheck import compare_figure_data, compare_pixels, figure_data, load_reference, save_reference
@@ -20,8 +19,9 @@ from figcheck import compare_figure_data, compare_pixels, figure_data, load_refe
 from selfalign import load_scene
 from selfalign.io.hdf5 import read_h5, write_h5
 from selfalign.model.profiles import ThreePhaseProfile
+from selfalign.plots.profile import figure_07
 from selfalign.stages.common import save_figure
-from selfalign.stages.trajectory import figure_07, profile_samples
+from selfalign.stages.trajectory import profile_samples
 
 #: Relative tolerance on figure data: the numbers come from closed forms, so only rounding differs.
 RTOL = 1e-9
@@ -156,13 +156,13 @@ def build_classification_figure(name, repo, tmp_path, change=None):
     from selfalign.analysis.classification import DECISION_TREE, DecisionTree
     from selfalign.plots.classification import figure_04, figure_05, figure_08, figure_map
     from selfalign.stages.classification import gather_map, map_shard, polynomial_sweep
+    from selfalign.stages.common import range_values
 
     stage, figures = classification_config(repo)
     h5 = tmp_path / f"{name}.h5"
     if name in ("fig04", "fig05"):
         sweep, poly = dict(stage["sweeps"][name]), stage["polynomial"]
-        values = {k: np.geomspace(v["from"], v["to"], v["count"]) if isinstance(v, dict) else v
-                  for k, v in sweep.items()}
+        values = {k: range_values(v) if isinstance(v, dict) else v for k, v in sweep.items()}
         values["dy"] = values["dy"] * (change or 1.0)
         write_h5(h5, *polynomial_sweep(values["dt"], values["dy"], forward_fraction=poly["forward_fraction"],
                                        steps_per_period=poly["moreau_steps_per_period"],
@@ -170,7 +170,7 @@ def build_classification_figure(name, repo, tmp_path, change=None):
         return (figure_04 if name == "fig04" else figure_05)(read_h5(h5))
     if name in ("fig10", "fig11"):
         m = stage["maps"][name]
-        y2, y3 = (np.linspace(m[k]["from"], m[k]["to"], m[k]["count"]) for k in ("y2", "y3"))
+        y2, y3 = range_values(m["y2"]), range_values(m["y3"])
         dy = m["dy"] * (change or 1.0)
         shard = map_shard(m["dt"], dy, y2, y3, slice(0, y2.size), simulate=False)
         write_h5(h5, *gather_map(m["dt"], dy, y2, y3, [shard]))

@@ -22,8 +22,8 @@ from test_figures import ATOL, RTOL, assert_data_matches, assert_pixels_match
 
 from selfalign.io.hdf5 import read_h5, write_h5
 from selfalign.model.profiles import ThreePhaseProfile
-from selfalign.plots.accumulation import figure_14, figure_15, figure_16, figure_17, figure_18
 from selfalign.stages.accumulation import fig16_content, fig17_content, fig18_content
+from selfalign.stages.figures import draw
 
 FIGURES = ("fig14", "fig15", "fig16", "fig17", "fig18")
 #: Figures whose committed PNG is drawn from the same data the test computes.
@@ -37,36 +37,31 @@ def config(repo):
 
 
 def stage(repo, **changes):
-    """The config's ``stages.accumulation`` with ``changes`` applied."""
+    """The config's ``stages.accumulation`` with the blocks in ``changes`` replaced."""
     return {**config(repo)["stages"]["accumulation"], **changes}
 
 
-def setting_key(pair):
-    """The fig16.h5 group name of a setting, as the rules' ``_setting_key``."""
-    return f"y2_{pair[0]:g}_y3_{pair[1]:g}"
-
-
 def build(name, p, tmp_path):
-    """Figure ``name`` from the stage's library steps with settings ``p`` (scene -> HDF5 -> figure)."""
+    """Figure ``name`` from the stage's library steps with settings ``p`` (scene -> HDF5 -> figure),
+    drawn as the workflow's plot rules draw it."""
     h5 = tmp_path / f"{name}.h5"
+    zone, pos = p["zone"], p["positioning"]
     if name == "fig17":
-        axis = np.linspace(*p["fig17_axis"][:2], COARSE_AXIS)
-        write_h5(h5, *fig17_content(axis, axis, dt=p["dt"], dy=p["dy"], w=p["w"], c_mu=p["c_mu"],
-                                    n_entries=COARSE_ENTRIES, max_periods=p["max_periods"], levels=p["levels"]))
-        return figure_17(read_h5(h5))
+        axis = np.linspace(pos["y2"]["from"], pos["y2"]["to"], COARSE_AXIS)
+        write_h5(h5, *fig17_content(axis, axis, dt=pos["dt"], dy=pos["dy"], w=zone["w"], c_mu=zone["c_mu"],
+                                    n_entries=COARSE_ENTRIES, max_periods=pos["max_periods"], levels=pos["levels"]))
+        return draw(name, [read_h5(h5)])
     if name == "fig18":
-        s = p["fig18"]
-        write_h5(h5, *fig18_content(ThreePhaseProfile(s["dt"], s["dy"], s["y2"], s["y3"]), w=p["w"],
-                                    c_mu=p["c_mu"], points=s["points"]))
-        return figure_18(read_h5(h5))
-    settings = [tuple(pair) for pair in p["fig16_settings"]]
-    write_h5(h5, *fig16_content(settings, dt=p["dt"], dy=p["dy"], w=p["w"], c_mu=p["c_mu"],
-                                n_entries=p["n_entries"]))
-    result = read_h5(h5)
-    if name == "fig16":
-        return figure_16(result, [setting_key(pair) for pair in settings])
-    # Figs. 14 and 15 show the last setting of Fig. 16, as the plot rules do.
-    return {"fig14": figure_14, "fig15": figure_15}[name](result, setting_key(settings[-1]))
+        s = p["stick_map"]
+        write_h5(h5, *fig18_content(ThreePhaseProfile(s["dt"], s["dy"], s["y2"], s["y3"]), w=zone["w"],
+                                    c_mu=zone["c_mu"], points=s["points"]))
+        return draw(name, [read_h5(h5)])
+    settings = p["portraits"]["settings"]
+    write_h5(h5, *fig16_content([tuple(pair) for pair in settings], dt=pos["dt"], dy=pos["dy"], w=zone["w"],
+                                c_mu=zone["c_mu"], n_entries=p["portraits"]["n_entries"]))
+    # Figs. 14 and 15 show the last setting of Fig. 16, as the workflow's figure registry says.
+    options = {"settings": settings} if name == "fig16" else {"setting": settings[-1]}
+    return draw(name, [read_h5(h5)], **options)
 
 
 @pytest.mark.parametrize("name", FIGURES)
@@ -89,8 +84,8 @@ def test_figure_pixels_match_committed_png(repo, tmp_path, name):
 
 def test_fig18_comparison_catches_friction_change(repo, tmp_path):
     """The check can fail: c_mu 1 % larger (2.5 -> 2.525) is reported on the eq. (59) line of Fig. 18."""
-    p = stage(repo)
-    changed = build("fig18", stage(repo, c_mu=p["c_mu"] * 1.01), tmp_path)
+    zone = stage(repo)["zone"]
+    changed = build("fig18", stage(repo, zone={**zone, "c_mu": zone["c_mu"] * 1.01}), tmp_path)
     diffs = compare_figure_data(figure_data(changed), load_reference(repo / "tests/figure_refs/fig18.json"),
                                 rtol=RTOL, atol=ATOL)
     assert any(d.startswith("figure.axes[0].lines[0].y") for d in diffs), diffs
@@ -99,9 +94,10 @@ def test_fig18_comparison_catches_friction_change(repo, tmp_path):
 def test_fig16_comparison_catches_setting_change(repo, tmp_path):
     """The check can fail: y3'' of the lower Fig. 16 panel 1 % larger (1.1 -> 1.111) is reported
     on its phase portrait."""
-    settings = [list(pair) for pair in stage(repo)["fig16_settings"]]
+    portraits = stage(repo)["portraits"]
+    settings = [list(pair) for pair in portraits["settings"]]
     settings[-1][1] *= 1.01
-    changed = build("fig16", stage(repo, fig16_settings=settings), tmp_path)
+    changed = build("fig16", stage(repo, portraits={**portraits, "settings": settings}), tmp_path)
     diffs = compare_figure_data(figure_data(changed), load_reference(repo / "tests/figure_refs/fig16.json"),
                                 rtol=RTOL, atol=ATOL)
     assert any(d.startswith(f"figure.axes[{len(settings) - 1}].lines[0].x") for d in diffs), diffs

@@ -21,9 +21,9 @@ from selfalign import load_scene, simulate
 from selfalign.analysis.accuracy import StudySettings, study
 from selfalign.analysis.classification import CASE_LABELS, classify
 from selfalign.io.hdf5 import read_h5, write_h5
+from selfalign.io.simulation_result import trajectory_content
 from selfalign.model.profiles import ThreePhaseProfile
 from selfalign.plots.simulation import figure_03, figure_09, figure_12, figure_accuracy_cost
-from selfalign.stages.simulation import trajectory_content
 
 FIGURES = ("fig03", "fig09", "fig12")
 

@@ -59,7 +59,7 @@ def test_slurm_profile_dry_run_needs_no_slurm(workdir):
     assert "Using workflow specific profile workflow/profiles/slurm" in out
     assert "slurm_partition=short" in out and "runtime=10" in out and "cpus_per_task=1" in out
     assert "Group job plots" in out
-    assert "generate_trajectory" in out and "run_benchmarks" not in out
+    assert "sample_trajectory" in out and "run_benchmarks" not in out
 
 
 def test_slurm_profile_heavy_rule_resources_and_unknown_rules(workdir):

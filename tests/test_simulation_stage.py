@@ -1,6 +1,6 @@
 """The simulation stage: trajectories to HDF5 and back, rerun recordings, the Fig. 9 scenes.
 
-The stage's library steps (``selfalign.stages.simulation``) are tested directly;
+The stage's library steps (``selfalign.io.simulation_result``) are tested directly;
 one test runs the stage's Snakemake rules for one scene in a temporary copy of
 the workflow.
 """
@@ -16,8 +16,7 @@ from selfalign import EventKind, Status, load_scene, simulate
 from selfalign.analysis.classification import classify
 from selfalign.io.hdf5 import read_h5, write_h5
 from selfalign.io.recording import read_recording, write_recording
-from selfalign.solvers.records import EVENT_DTYPE
-from selfalign.stages.simulation import (
+from selfalign.io.simulation_result import (
     RERUN_ENTITIES,
     event_datasets,
     rerun_series,
@@ -25,6 +24,7 @@ from selfalign.stages.simulation import (
     trajectory_content,
     trajectory_from_result,
 )
+from selfalign.solvers.records import EVENT_DTYPE
 
 
 def round_trip(traj, scene, tmp_path):

@@ -72,7 +72,7 @@ def test_trajectory_stage_end_to_end(workdir):
     config = workdir / "workflow/config/config.yaml"
     config.write_text(config.read_text().replace("dpi: 150", "dpi: 80"))
     rc, out = snakemake(workdir, "-n", "-c1", *targets)
-    assert rc == 0 and "plot_fig07" in out and "generate_trajectory" not in out, out
+    assert rc == 0 and "plot_fig07" in out and "sample_trajectory" not in out, out
 
 
 def test_samples_include_switch_times_and_span_the_horizon(repo):

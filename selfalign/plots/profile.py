@@ -71,3 +71,17 @@ def mark_times(axes, marks: dict[str, float]):
         for ax in axes:
             ax.axvline(time, color="0.5", linestyle=":", linewidth=1.0)
         axes[0].text(time, 1.02, label, transform=axes[0].get_xaxis_transform(), ha="center", va="bottom")
+
+
+def figure_07(result: dict):
+    """Fig. 7, the three-phase profile sketch, from a trajectory result (:func:`read_h5` layout)."""
+    from matplotlib.figure import Figure
+
+    d, a = result["datasets"], result["attrs"]
+    if a.get("kind") != "three_phase":
+        raise ValueError(f"figure 7 needs a three_phase profile, got kind {a.get('kind')!r}")
+    marks = {"$t_0$": 0.0, "$t_1$": a["t1"], "$t_2$": a["t2"], "$t_3$": a["t3"]}
+    title = (rf"$\Delta t$ = {a['dt']:g}, $\Delta y$ = {a['dy']:g}, "
+             rf"$y_2''$ = {a['y2']:g}, $y_3''$ = {a['y3']:g}")
+    fig = Figure(figsize=(6.4, 6.4), layout="constrained")
+    return profile_sketch(fig, d["t"], d["y"], d["yd"], d["ydd"], marks, title=title)

@@ -12,9 +12,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..io.simulation_result import scene_from_result, trajectory_from_result
 from ..model.scene import Scene
 from ..solvers.outcomes import EventKind
-from ..stages.simulation import scene_from_result, trajectory_from_result
 from .profile import mark_times
 
 #: Colours of the methods in the work-precision figure.

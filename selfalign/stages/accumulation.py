@@ -141,6 +141,11 @@ def fig18_content(profile: ThreePhaseProfile, *, w: float, c_mu: float, x_mu: fl
     return datasets, attrs
 
 
+def setting_group(y2: float, y3: float) -> str:
+    """Name of the group of the (y2'', y3'') setting in ``fig16.h5``."""
+    return f"y2_{y2:g}_y3_{y3:g}"
+
+
 def fig16_content(settings, *, dt: float, dy: float, w: float, c_mu: float, n_entries: int = 64,
                   samples_per_period: int = 400):
     """Contents of ``results/accumulation/fig16.h5`` (Figs. 14-16, Sects. 7.1-7.2) for write_h5.
@@ -165,7 +170,7 @@ def fig16_content(settings, *, dt: float, dy: float, w: float, c_mu: float, n_en
                                      "attrs": {"index": i, "status": traj.status.value, "x_end": traj.x_end}}
         scalars = ("x_mu", "x_stick_min", "overshoot_min", "overshoot_max", "dx_d", "x_d", "vbar", "v0",
                    "frac_accumulate", "frac_stop", "frac_never_stop", "frac_undecided", "accumulation", "case")
-        groups[f"y2_{y2:g}_y3_{y3:g}"] = {
+        groups[setting_group(y2, y3)] = {
             "datasets": {name: getattr(pos, name) for name in ("s", "x0", "status", "x_end", "overshoot",
                                                                 "first_stick_x")},
             "attrs": {"y2": float(y2), "y3": float(y3), **{name: getattr(pos, name) for name in scalars}},

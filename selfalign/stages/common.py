@@ -1,8 +1,10 @@
-"""Small library steps behind the Snakemake workflow's scripts.
+"""Steps every workflow script shares: logging to the job's log, writing a figure, the rows of
+a shard and the values of a config range.
 
-Every workflow script reads its inputs, calls one or two functions from here
-and writes its outputs, so that tests can run the same steps without
-Snakemake.  Nothing here knows about Snakemake objects.
+The stage modules beside this one build the content of each stage's result files;
+every workflow script reads its inputs, calls one or two of their functions and writes
+its outputs, so that tests run the same steps without Snakemake.  Nothing here knows
+about Snakemake objects.
 """
 
 from __future__ import annotations
@@ -61,3 +63,13 @@ def shard_rows(rows: int, shards: int, index: int, *, interleaved: bool = False)
     base, extra = divmod(int(rows), int(shards))
     start = index * base + min(index, extra)
     return slice(start, start + base + (index < extra))
+
+
+def range_values(spec: dict) -> np.ndarray:
+    """The values of a config range ``{from, to, count, scale}`` (config schema ``$defs/range``):
+    ``count`` values from ``from`` to ``to``, both included, evenly spaced (``linear``) or in
+    geometric progression (``log``)."""
+    space = {"linear": np.linspace, "log": np.geomspace}
+    if spec["scale"] not in space:
+        raise ValueError(f"range scale must be one of {sorted(space)}, got {spec['scale']!r}")
+    return space[spec["scale"]](float(spec["from"]), float(spec["to"]), int(spec["count"]))

@@ -83,17 +83,3 @@ def profile_samples(scene: Scene) -> tuple[dict, dict]:
     return datasets, attrs
 
 
-def figure_07(result: dict):
-    """Fig. 7, the three-phase profile sketch, from a trajectory result (:func:`read_h5` layout)."""
-    from matplotlib.figure import Figure
-
-    from ..plots.profile import profile_sketch
-
-    d, a = result["datasets"], result["attrs"]
-    if a.get("kind") != "three_phase":
-        raise ValueError(f"figure 7 needs a three_phase profile, got kind {a.get('kind')!r}")
-    marks = {"$t_0$": 0.0, "$t_1$": a["t1"], "$t_2$": a["t2"], "$t_3$": a["t3"]}
-    title = (rf"$\Delta t$ = {a['dt']:g}, $\Delta y$ = {a['dy']:g}, "
-             rf"$y_2''$ = {a['y2']:g}, $y_3''$ = {a['y3']:g}")
-    fig = Figure(figsize=(6.4, 6.4), layout="constrained")
-    return profile_sketch(fig, d["t"], d["y"], d["yd"], d["ydd"], marks, title=title)

@@ -12,10 +12,13 @@ import selfalign
 #: Final outputs of all stages; each stage's .smk extends it, rule `all` requests it.
 TARGETS = []
 
+#: Software environment of every rule (`snakemake --use-conda`): the package and its pins.
+ENV = "../envs/selfalign.yaml"
+
 
 def scenes(stage):
-    """Scene names the config lists for `stage`."""
-    return list(config["stages"][stage]["scenes"])
+    """Scene names the config lists for `stage` (none for the stages that build their own profiles)."""
+    return list(config["stages"][stage].get("scenes", []))
 
 
 def scene_file(name):
@@ -40,6 +43,11 @@ def shard_results(stage, name, shards):
 
 def log_file(stage, name):
     return f"results/logs/{stage}/{name}.log"
+
+
+def benchmark_file(stage, name):
+    """Snakemake's timing of a job: results/benchmarks/<stage>/<name>.tsv."""
+    return f"results/benchmarks/{stage}/{name}.tsv"
 
 
 def figure(name):

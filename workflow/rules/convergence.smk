@@ -1,9 +1,9 @@
 # Stage "convergence" (Sect. 6.2): two velocity transients of each scene and the Lyapunov
-# function V = (v1 - v2)^2 / 2 with its "=" / "!=" intervals, a rerun recording of them for
-# scenes that set record.rerun, and Fig. 13.
+# function V = (v1 - v2)^2 / 2 with its "=" / "!=" intervals, and a rerun recording of them
+# for scenes that set record.rerun.
 
-CONVERGENCE = scenes("convergence")
-_missing = [n for n in CONVERGENCE if n not in config["stages"]["convergence"]["v20"]]
+CONVERGENCE = config["stages"]["convergence"]
+_missing = [n for n in scenes("convergence") if n not in CONVERGENCE["v20"]]
 if _missing:
     raise WorkflowError(f"stages.convergence.v20: no second initial velocity for scene(s) {_missing}")
 
@@ -14,9 +14,11 @@ rule compute_convergence:
     output:
         results("convergence", "{scene}"),
     params:
-        v20=lambda wildcards: config["stages"]["convergence"]["v20"][wildcards.scene],
+        v20=lambda wildcards: CONVERGENCE["v20"][wildcards.scene],
     log:
         log_file("convergence", "{scene}"),
+    conda:
+        ENV
     script:
         "../scripts/compute_convergence.py"
 
@@ -32,26 +34,14 @@ rule record_convergence:
     output:
         results("rerun", "{scene}", "rrd"),
     wildcard_constraints:
-        scene="|".join(re.escape(n) for n in CONVERGENCE),
+        scene="|".join(re.escape(n) for n in scenes("convergence")),
     log:
         log_file("rerun", "{scene}"),
+    conda:
+        ENV
     script:
-        "../scripts/compute_convergence.py"
+        "../scripts/record_convergence.py"
 
 
-rule plot_fig13:
-    input:
-        results("convergence", config["figures"]["fig13"]["scene"]),
-    output:
-        figure("fig13"),
-    params:
-        dpi=config["figures"]["dpi"],
-    log:
-        log_file("figures", "fig13"),
-    script:
-        "../scripts/plot_fig13.py"
-
-
-TARGETS.extend(results("convergence", name) for name in CONVERGENCE)
-TARGETS.extend(results("rerun", name, "rrd") for name in CONVERGENCE if SCENES[name].record.rerun)
-TARGETS.append(figure("fig13"))
+TARGETS.extend(results("convergence", name) for name in scenes("convergence"))
+TARGETS.extend(results("rerun", name, "rrd") for name in scenes("convergence") if SCENES[name].record.rerun)

@@ -2,8 +2,8 @@
 
 from selfalign.io.hdf5 import read_h5
 from selfalign.io.recording import write_recording
+from selfalign.io.simulation_result import rerun_series, trajectory_from_result
 from selfalign.stages.common import logged
-from selfalign.stages.simulation import rerun_series, trajectory_from_result
 
 with logged(snakemake.log[0]) as log:
     times, series = rerun_series(trajectory_from_result(read_h5(snakemake.input[0])))

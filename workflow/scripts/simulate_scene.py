@@ -2,8 +2,8 @@
 
 from selfalign import load_scene, simulate
 from selfalign.io.hdf5 import write_h5
+from selfalign.io.simulation_result import trajectory_content
 from selfalign.stages.common import logged
-from selfalign.stages.simulation import trajectory_content
 
 with logged(snakemake.log[0]) as log:
     scene = load_scene(snakemake.input.scene)

@@ -29,11 +29,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..io.scene_files import scene_from_dict
 from ..model.scene import Scene
 from ..solvers.outcomes import EventKind, Reason, Status
 from ..solvers.records import EVENT_DTYPE
 from ..solvers.results import Trajectory
+from .scene_files import scene_from_dict
 
 #: Rerun entity path of each recordable series: one plot per quantity kind.
 RERUN_ENTITIES = {

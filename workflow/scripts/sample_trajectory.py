@@ -2,7 +2,8 @@
 
 from selfalign import load_scene
 from selfalign.io.hdf5 import write_h5
-from selfalign.stages.common import logged, profile_samples
+from selfalign.stages.common import logged
+from selfalign.stages.trajectory import profile_samples
 
 with logged(snakemake.log[0]) as log:
     scene = load_scene(snakemake.input.scene)

@@ -1,0 +1,55 @@
+"""The figures of the workflow, each drawn from its result files.
+
+:data:`FIGURES` maps a figure's name (the stem of ``figures/<name>.png``) to the
+function that draws it from the results it is given, in
+:func:`selfalign.io.hdf5.read_h5` layout and in the order the workflow lists them
+(``workflow/rules/figures.smk``), plus the options the config gives it.  One
+workflow rule per figure calls :func:`draw`; the plot functions in
+:mod:`selfalign.plots` do the drawing, and what a figure needs computed on top of
+its results (the case of each Fig. 9 run) is computed here, not in the plot.
+"""
+
+from __future__ import annotations
+
+from ..analysis.classification import CASE_LABELS, classify
+from ..io.simulation_result import scene_from_result
+from ..plots.accumulation import figure_14, figure_15, figure_16, figure_17, figure_18
+from ..plots.classification import figure_04, figure_05, figure_06, figure_08, figure_map
+from ..plots.profile import figure_07
+from ..plots.simulation import figure_03, figure_09, figure_12, figure_accuracy_cost
+from ..plots.stability import figure_13
+from .accumulation import setting_group
+
+
+def _fig09(results, periods):
+    cases = [classify(scene_from_result(r).profile) for r in results]
+    return figure_09(results, cases, CASE_LABELS, periods=periods)
+
+
+#: name -> draw(results, **options): the results are the figure's inputs in the workflow's order.
+FIGURES = {
+    "fig03": lambda results: figure_03(*results),
+    "fig04": lambda results: figure_04(*results),
+    "fig05": lambda results: figure_05(*results),
+    "fig06": lambda results: figure_06(*results),
+    "fig07": lambda results: figure_07(*results),
+    "fig08": lambda results: figure_08(),
+    "fig09": _fig09,
+    "fig10": lambda results, f_max: figure_map(*results, f_max),
+    "fig11": lambda results, f_max: figure_map(*results, f_max),
+    "fig12": lambda results: figure_12(*results),
+    "fig13": lambda results: figure_13(*results),
+    "fig14": lambda results, setting: figure_14(*results, setting_group(*setting)),
+    "fig15": lambda results, setting: figure_15(*results, setting_group(*setting)),
+    "fig16": lambda results, settings: figure_16(*results, [setting_group(*s) for s in settings]),
+    "fig17": lambda results: figure_17(*results),
+    "fig18": lambda results: figure_18(*results),
+    "accuracy_cost": figure_accuracy_cost,
+}
+
+
+def draw(name: str, results: list[dict], **options):
+    """The matplotlib Figure ``name`` drawn from ``results`` with ``options``."""
+    if name not in FIGURES:
+        raise ValueError(f"unknown figure {name!r}; known: {', '.join(FIGURES)}")
+    return FIGURES[name](results, **options)

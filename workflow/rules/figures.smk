@@ -1,0 +1,60 @@
+# The figures: one rule plot_<name> per figure, all made from the one definition below.
+# Each draws figures/<name>.png from its result files with selfalign.stages.figures.draw
+# (computing and plotting stay in separate rules, so restyling never reruns a simulation)
+# and carries its caption, workflow/report/<name>.rst, into `snakemake --report`.
+
+FIGURE_CONFIG = config["figures"]
+SIMULATION_FIGURES = "Simulation (Sects. 2-5)"
+STEADY_STATE_FIGURES = "Steady state and classification (Sects. 4-5)"
+STABILITY_FIGURES = "Stability and convergence (Sect. 6)"
+ACCUMULATION_FIGURES = "Stopping and accumulation (Sect. 7)"
+SOLVER_FIGURES = "Solvers: accuracy against cost"
+PORTRAITS = ACCUMULATION["portraits"]["settings"]
+
+#: name -> (report category, input result files, options of selfalign.stages.figures.draw)
+FIGURES = {
+    "fig03": (SIMULATION_FIGURES, [results("simulation", FIGURE_CONFIG["fig03"]["scene"])], {}),
+    "fig04": (STEADY_STATE_FIGURES, [results("classification", "fig04")], {}),
+    "fig05": (STEADY_STATE_FIGURES, [results("classification", "fig05")], {}),
+    "fig06": (STEADY_STATE_FIGURES, [results("classification", "fig06")], {}),
+    "fig07": (SIMULATION_FIGURES, [results("trajectory", FIGURE_CONFIG["fig07"]["scene"])], {}),
+    # Drawn from the decision tree in selfalign/analysis/classification.py itself (no result
+    # file); after changing the tree: snakemake -c2 --forcerun plot_fig08.
+    "fig08": (STEADY_STATE_FIGURES, [], {}),
+    "fig09": (SIMULATION_FIGURES, [results("simulation", n) for n in FIGURE_CONFIG["fig09"]["scenes"]],
+              {"periods": FIGURE_CONFIG["fig09"]["periods"]}),
+    "fig10": (STEADY_STATE_FIGURES, [results("classification", "fig10")], {"f_max": FIGURE_CONFIG["fig10"]["f_max"]}),
+    "fig11": (STEADY_STATE_FIGURES, [results("classification", "fig11")], {"f_max": FIGURE_CONFIG["fig11"]["f_max"]}),
+    "fig12": (SIMULATION_FIGURES, [results("simulation", FIGURE_CONFIG["fig12"]["scene"])], {}),
+    "fig13": (STABILITY_FIGURES, [results("convergence", FIGURE_CONFIG["fig13"]["scene"])], {}),
+    "fig14": (ACCUMULATION_FIGURES, [results("accumulation", "fig16")], {"setting": PORTRAITS[-1]}),
+    "fig15": (ACCUMULATION_FIGURES, [results("accumulation", "fig16")], {"setting": PORTRAITS[-1]}),
+    "fig16": (ACCUMULATION_FIGURES, [results("accumulation", "fig16")], {"settings": PORTRAITS}),
+    "fig17": (ACCUMULATION_FIGURES, [results("accumulation", "fig17")], {}),
+    "fig18": (ACCUMULATION_FIGURES, [results("accumulation", "fig18")], {}),
+    "accuracy_cost": (SOLVER_FIGURES, [results("accuracy", n) for n in scenes("accuracy")], {}),
+}
+
+
+for name, (category, inputs, options) in FIGURES.items():
+
+    rule:
+        name:
+            f"plot_{name}"
+        input:
+            inputs,
+        output:
+            report(figure(name), caption=f"../report/{name}.rst", category=category),
+        params:
+            figure=name,
+            options=options,
+            dpi=FIGURE_CONFIG["dpi"],
+        log:
+            log_file("figures", name),
+        conda:
+            ENV
+        script:
+            "../scripts/plot_figure.py"
+
+
+TARGETS.extend(figure(name) for name in FIGURES)

@@ -1,9 +1,0 @@
-"""Fig. 4 from results/classification/fig04.h5."""
-
-from selfalign.io.hdf5 import read_h5
-from selfalign.plots.classification import figure_04
-from selfalign.stages.common import logged, save_figure
-
-with logged(snakemake.log[0]) as log:
-    save_figure(figure_04(read_h5(snakemake.input[0])), snakemake.output[0], dpi=snakemake.params.dpi)
-    log.info("figure 4 from %s written to %s", snakemake.input[0], snakemake.output[0])

@@ -1,9 +1,0 @@
-"""Fig. 6 from results/classification/fig06.h5."""
-
-from selfalign.io.hdf5 import read_h5
-from selfalign.plots.classification import figure_06
-from selfalign.stages.common import logged, save_figure
-
-with logged(snakemake.log[0]) as log:
-    save_figure(figure_06(read_h5(snakemake.input[0])), snakemake.output[0], dpi=snakemake.params.dpi)
-    log.info("figure 6 from %s written to %s", snakemake.input[0], snakemake.output[0])
