@@ -1,0 +1,100 @@
+"""The package's layers (README "Architecture"): each layer imports only the layers below it, and
+the heavy third-party libraries stay in the one layer that needs them.
+
+Every ``import`` statement of every module is read with :mod:`ast` (function-level imports
+included, since lazy imports are imports too), so the test needs no import side effects.
+"""
+
+import ast
+from pathlib import Path
+
+import pytest
+
+PACKAGE = Path(__file__).resolve().parents[1] / "selfalign"
+
+#: layer -> the layers it may import (besides itself).  README "Architecture" draws the same.
+ALLOWED = {
+    "model": set(),
+    "solvers": {"model"},
+    "analysis": {"model", "solvers"},
+    "io": {"model", "solvers"},
+    "plots": {"model", "solvers", "analysis", "io"},
+    "stages": {"model", "solvers", "analysis", "io", "plots"},
+}
+#: Third-party library -> the layers that may import it.
+THIRD_PARTY = {
+    "numba": {"solvers"},
+    "matplotlib": {"plots"},
+    "h5py": {"io"},
+    "rerun": {"io"},
+    "snakemake": set(),
+    "scipy": {"solvers", "analysis"},
+}
+
+
+def imports(source: str, package: str) -> list[tuple[str, int]]:
+    """(imported name as an absolute dotted path, line) for every import in ``source``, a module of
+    the dotted ``package``."""
+    found = []
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, ast.Import):
+            found += [(alias.name, node.lineno) for alias in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package.split(".")[: len(package.split(".")) - node.level + 1]
+                name = ".".join(base + ([node.module] if node.module else []))
+            else:
+                name = node.module
+            found += [(f"{name}.{alias.name}" if node.module is None else name, node.lineno)
+                      for alias in node.names]
+    return found
+
+
+def layer_of(path: Path) -> str | None:
+    parts = path.relative_to(PACKAGE).parts
+    return parts[0] if len(parts) > 1 else None
+
+
+def violations(layer: str, found: list[tuple[str, int]]) -> list[str]:
+    """The imports in ``found`` that ``layer`` may not make."""
+    bad = []
+    for name, line in found:
+        top = name.split(".")
+        if name == "selfalign.__version__":
+            continue
+        if top[0] == "selfalign":
+            if len(top) == 1 or top[1] not in ALLOWED:
+                bad.append(f"line {line}: {name} (the package's top level; import from the layer itself)")
+            elif top[1] != layer and top[1] not in ALLOWED[layer]:
+                bad.append(f"line {line}: {name} ({top[1]} is not below {layer})")
+        elif top[0] in THIRD_PARTY and layer not in THIRD_PARTY[top[0]]:
+            bad.append(f"line {line}: {name} ({top[0]} belongs to {sorted(THIRD_PARTY[top[0]]) or 'no layer'})")
+    return bad
+
+
+MODULES = sorted(p for p in PACKAGE.rglob("*.py") if layer_of(p) is not None)
+
+
+def test_every_subpackage_is_a_known_layer():
+    """A new subpackage must take its place in the layer table (and in the README's drawing)."""
+    assert {layer_of(p) for p in MODULES} == set(ALLOWED)
+
+
+@pytest.mark.parametrize("path", MODULES, ids=lambda p: str(p.relative_to(PACKAGE)))
+def test_layer_imports_only_layers_below(path):
+    """The model imports no solver or analysis, solvers no analysis, and so on up (README
+    "Architecture"); third-party heavyweights only where their layer needs them."""
+    package = ".".join(path.relative_to(PACKAGE.parent).parent.parts)
+    bad = violations(layer_of(path), imports(path.read_text(), package))
+    assert not bad, f"{path.relative_to(PACKAGE)} imports across layers:\n" + "\n".join(bad)
+
+
+def test_the_check_can_fail():
+    """A relative, a lazy (function-level) and an absolute import upward are all caught, and a
+    third-party library outside its layer too."""
+    source = ("from ..solvers import driver\n\n\ndef f():\n    from selfalign.analysis import floquet\n"
+              "    import matplotlib\n")
+    found = imports(source, "selfalign.model")
+    assert [name for name, _ in found] == ["selfalign.solvers", "selfalign.analysis", "matplotlib"]
+    assert len(violations("model", found)) == 3
+    assert violations("stages", found[:2]) == []
