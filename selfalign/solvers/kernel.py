@@ -203,10 +203,21 @@ def _on_stick(s, xi, mu, n, tau, until, holds):
 
 
 @jit
+def _next_boundary(bnd, cross):
+    """The lowest boundary not crossed yet (inf if none): an arc that ends below it crosses
+    nothing, so the steppers call :func:`_crossed` only for an arc that reaches it."""
+    lowest = _INF
+    for j in range(bnd.shape[0]):
+        if cross[j].period < 0 and bnd[j] < lowest:     # NaN: a boundary that does not exist
+            lowest = bnd[j]
+    return lowest
+
+
+@jit
 def _crossed(s, bnd, cross, kind, om, xi0, v0, acc0, xi1, v1, n, tau, dur):
     """First crossings of the boundaries ``bnd`` by an arc from (xi0, v0) to (xi1, v1) of
     duration ``dur`` starting at (n, tau): the time in closed form on exact arcs, at the
-    step end on smooth arcs and Moreau steps."""
+    step end on smooth arcs and Moreau steps.  Returns the next boundary (:func:`_next_boundary`)."""
     for j in range(bnd.shape[0]):
         c = cross[j]
         if c.period >= 0 or not xi1 >= bnd[j]:      # NaN: a boundary that does not exist
@@ -222,6 +233,7 @@ def _crossed(s, bnd, cross, kind, om, xi0, v0, acc0, xi1, v1, n, tau, dur):
         c.tau = tau + sc
         c.v = vc
         c.sticks = s.zone_sticks
+    return _next_boundary(bnd, cross)
 
 
 @jit
@@ -295,7 +307,7 @@ def _period_piecewise(s, row, until, max_events, bnd, cross, record, arcs, event
     tail = tau0 > row[b0 + i0]
     nseg = m + 1 if tail else m
     zone, w, om, b1 = s.zone, s.w, s.omega, s.b1
-    track = bnd.shape[0] > 0
+    lowest = _next_boundary(bnd, cross)
     xi, v, mode, n = s.xi, s.v, s.mode, s.n
     count = s.events
     path, xi_max = s.path, s.xi_max
@@ -386,8 +398,9 @@ def _period_piecewise(s, row, until, max_events, bnd, cross, record, arcs, event
             path += abs(xi_new - xi)
             if xi_new > xi_max:
                 xi_max = xi_new
-            if track:
-                _crossed(s, bnd, cross, kind, om_arc, xi, v, acc0, xi_new, 0.0 if ev == 1 else v1, nn, ts + s0, dur)
+            if xi_new >= lowest:
+                lowest = _crossed(s, bnd, cross, kind, om_arc, xi, v, acc0, xi_new, 0.0 if ev == 1 else v1, nn,
+                                  ts + s0, dur)
             if ev == 0:
                 dxp += dx
                 xi = xi_new
@@ -523,14 +536,30 @@ def _brent(kind, row, t0, sign, v, s0, yd0, xa, xb, xtol, rtol):
 
 
 @jit
-def _smooth_grid(row, tau0):
-    """(grid offsets from tau0, y', y'') on 64 (order + 1) + 1 points of one period."""
-    k = int(row[R.DATA])
-    g = 64 * (k + 1)
+def _grid_intervals(row):
+    """Intervals of the smooth stepper's grid on one period of the Fourier profile ``row``."""
+    return 64 * (int(row[R.DATA]) + 1)
+
+
+@jit
+def _grid_scratch(method, table):
+    """Scratch space (3, points) for :func:`_smooth_grid`, enough for every profile of ``table``
+    (none for the other steppers): allocated once per kernel call, not once per member."""
+    points = 0
+    if method == R.EXACT_SMOOTH:
+        for p in range(table.shape[0]):
+            points = max(points, _grid_intervals(table[p]) + 1)
+    return np.empty((3, points))
+
+
+@jit
+def _smooth_grid(row, tau0, scratch):
+    """(grid offsets from tau0, y', y'') on 64 (order + 1) + 1 points of one period, views of ``scratch``."""
+    g = _grid_intervals(row)
     dt = row[R.DT]
-    grid = np.empty(g + 1)
-    yd = np.empty(g + 1)
-    ydd = np.empty(g + 1)
+    grid = scratch[0, :g + 1]
+    yd = scratch[1, :g + 1]
+    ydd = scratch[2, :g + 1]
     for i in range(g + 1):
         grid[i] = dt * i / g
         _, yd[i], ydd[i] = _fourier(row, tau0 + grid[i])
@@ -551,6 +580,7 @@ def _period_smooth(s, row, until, max_events, bnd, cross, record, arcs, events, 
     s.fresh = False
     s0 = 0.0
     g = grid.shape[0]
+    lowest = _next_boundary(bnd, cross)
     while True:
         k0 = 0
         while k0 < g and grid[k0] <= s0:
@@ -603,7 +633,9 @@ def _period_smooth(s, row, until, max_events, bnd, cross, record, arcs, events, 
             v_end = v - sigma * d - (yd1 - yd0)
             s.path += abs(dx)
             s.xi_max = max(s.xi_max, xi + dx)
-            _crossed(s, bnd, cross, _SMOOTH, 0.0, xi, v, 0.0, xi + dx, v_end if not found else 0.0, n, tau0 + s0, d)
+            if xi + dx >= lowest:
+                lowest = _crossed(s, bnd, cross, _SMOOTH, 0.0, xi, v, 0.0, xi + dx, v_end if not found else 0.0,
+                                  n, tau0 + s0, d)
             xi += dx
             dxp += dx
             if dxp > hi:
@@ -697,6 +729,7 @@ def _period_moreau(s, row, until, bnd, cross, record, samples, sample_steps, fix
     regions = 0
     s.fresh = False
     nxt = 0            # next dense-output sample (index into sample_steps)
+    lowest = _next_boundary(bnd, cross)
     k = 0
     while k < nsteps:
         if v == 0.0:
@@ -731,8 +764,8 @@ def _period_moreau(s, row, until, bnd, cross, record, samples, sample_steps, fix
             lo = dxp
         s.path += abs(dx)
         s.xi_max = max(s.xi_max, x_new)
-        if bnd.shape[0]:
-            _crossed(s, bnd, cross, _SMOOTH, 0.0, xi, v, 0.0, x_new, v_new, n, tau0 + k * h, h)
+        if x_new >= lowest:
+            lowest = _crossed(s, bnd, cross, _SMOOTH, 0.0, xi, v, 0.0, x_new, v_new, n, tau0 + k * h, h)
         was_moving = v != 0.0
         xi, v = x_new, v_new
         k += 1
@@ -967,10 +1000,11 @@ def _finish(s, code, reason, until):
 
 @jit
 def drive(s, method, row, until, total, max_events, max_cycle, acc_tol, bnd, cross, record, fast_forward, hist,
-          arcs, events, samples, sample_steps, fixed_point, fp_tol, fp_max_iter):
+          scratch, arcs, events, samples, sample_steps, fixed_point, fp_tol, fp_max_iter):
     """Run member ``s`` to its outcome (module docstring), recording into the buffers if asked.
 
-    ``hist`` is scratch space for ``max_cycle`` period records; ``fast_forward`` allows
+    ``hist`` is scratch space for ``max_cycle`` period records, ``scratch`` that of the
+    smooth stepper's grid (:func:`_grid_scratch`); ``fast_forward`` allows
     skipping bit-exact repeating periods (off while recording).  ``record`` is a
     compile-time constant (two specialisations), so a run that records nothing carries no
     recording code in its loops.
@@ -979,10 +1013,10 @@ def drive(s, method, row, until, total, max_events, max_cycle, acc_tol, bnd, cro
     _prepare(s, row, method, acc_tol)
     swing = row[R.SWING]
     if method == R.EXACT_SMOOTH:
-        grid, g_yd, g_ydd = _smooth_grid(row, s.tau0)
+        grid, g_yd, g_ydd = _smooth_grid(row, s.tau0, scratch)
         a0 = g_ydd[0]
     else:
-        grid, g_yd, g_ydd = np.empty(0), np.empty(0), np.empty(0)
+        grid, g_yd, g_ydd = scratch[0, :0], scratch[1, :0], scratch[2, :0]
         a0 = _pw_acc(row, s.tau0) if method == R.EXACT_PIECEWISE else 0.0
     count = 0
     reason = -1
@@ -1025,10 +1059,11 @@ def run_members(members, method, table, until, total, max_events, max_cycle, acc
     passed (empty) only so that the same :func:`drive` serves both entry points.  Every
     record array is allocated by the caller (numpy record arrays, so that the kernel also
     runs uncompiled, NUMBA_DISABLE_JIT=1)."""
+    scratch = _grid_scratch(method, table)
     for i in range(members.shape[0]):
         s = members[i]
         drive(s, method, table[s.profile], until, total, max_events, max_cycle, acc_tol, bnd[i], cross[i], False,
-              fast_forward, hist, arcs, events, samples, steps, fixed_point, fp_tol, fp_max_iter)
+              fast_forward, hist, scratch, arcs, events, samples, steps, fixed_point, fp_tol, fp_max_iter)
 
 
 @jit
@@ -1039,7 +1074,7 @@ def run_recorded(members, method, table, until, total, max_events, max_cycle, ac
     that was too small holds the first ones only: run again with larger buffers)."""
     s = members[0]
     drive(s, method, table[s.profile], until, total, max_events, max_cycle, acc_tol, bnd[0], cross[0], True, False,
-          hist, arcs, events, samples, sample_steps, fixed_point, fp_tol, fp_max_iter)
+          hist, _grid_scratch(method, table), arcs, events, samples, sample_steps, fixed_point, fp_tol, fp_max_iter)
 
 
 # ----------------------------------------------------------------------------------------
