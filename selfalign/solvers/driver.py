@@ -11,6 +11,7 @@ the stepper provides (arcs, steps or solve_ivp's dense output).
 
 from __future__ import annotations
 
+import functools
 import math
 import numbers
 import time
@@ -69,7 +70,8 @@ class _Prepared:
 
     def members(self) -> np.ndarray:
         """A fresh member record (from bytes: numpy copies structured arrays field by field, 15x slower)."""
-        return np.frombuffer(bytearray(self.template), dtype=R.MEMBER_DTYPE).view(np.recarray)
+        members = np.frombuffer(bytearray(self.template), dtype=R.MEMBER_DTYPE)
+        return members if _compiled() else members.view(np.recarray)
 
     def __init__(self, scene: Scene, method: str, options: dict):
         self.options = check_scene(scene, method, options)
@@ -81,7 +83,7 @@ class _Prepared:
         self.template = members.tobytes()
         o = self.options
         self.args = (self.code, self.table, R.UNTIL_CODES[scene.until], scene.horizon_periods,
-                     o.get("max_events", 2**62), MAX_CYCLE, o["accumulation_tol"], _NO_BOUNDARIES, _NO_CROSSINGS)
+                     o.get("max_events", 2**62), MAX_CYCLE, o["accumulation_tol"], _NO_BOUNDARIES, _no_crossings())
         self.tail = (o.get("iteration") == "fixed_point", o.get("fp_tol", 0.0), o.get("fp_max_iter", 1))
         self.steps = (moreau.sample_steps(int(self.row[R.DATA]), scene.record.samples_per_period)
                       if self.code == R.MOREAU and scene.record.dense else _NO_STEPS)
@@ -125,7 +127,7 @@ def simulate(scene: Scene, method: str | None = None, **options) -> Trajectory:
     if record.dense or record.events or record.arcs:
         arcs, events, samples = _recorded_run(K, members, (members,) + prep.args, prep.tail, prep.steps)
     else:
-        call(K.run_members, members, *prep.args, True, *prep.tail, _hist(), *_NO_RECORDING)
+        call(K.run_members, members, *prep.args, True, *prep.tail, _hist(), *_no_recording())
     return _trajectory(scene, method, prep.options, prep.code, prep.row, members[0], prep.origin, arcs, events,
                        samples, time.process_time() - cpu0)
 
@@ -136,8 +138,8 @@ def _recorded_run(K, members, args, tail, steps):
     start = members.copy()
     sizes = (4096, 4096, 4096)
     while True:
-        buffers = (R.records(R.ARC_DTYPE, sizes[0]), R.records(R.EVENT_DTYPE, sizes[1]),
-                   R.records(R.SAMPLE_DTYPE, sizes[2]))
+        buffers = (_records(R.ARC_DTYPE, sizes[0]), _records(R.EVENT_DTYPE, sizes[1]),
+                   _records(R.SAMPLE_DTYPE, sizes[2]))
         call(K.run_recorded, *args, *tail, _hist(), *buffers, steps)
         rec = members[0]
         counts = (int(rec["n_arcs"]), int(rec["n_events"]), int(rec["n_samples"]))
@@ -147,15 +149,40 @@ def _recorded_run(K, members, args, tail, steps):
         members[:] = start
 
 
-def _hist(size: int = MAX_CYCLE) -> np.recarray:
+@functools.cache
+def _compiled() -> bool:
+    """Whether the kernel runs compiled (not uncompiled under NUMBA_DISABLE_JIT=1)."""
+    kernel()
+    from numba import config
+
+    return not config.DISABLE_JIT
+
+
+def _records(dtype, size: int | tuple = 0) -> np.ndarray:
+    """Zeroed records for the kernel.  Compiled, a plain structured array: numba types a
+    ``numpy.recarray`` argument in Python, ~2.5 us per argument and call, a plain one in C;
+    uncompiled, a record array (:func:`~selfalign.solvers.records.records`), whose fields the
+    kernel reads as attributes."""
+    return np.zeros(size, dtype=dtype) if _compiled() else R.records(dtype, size)
+
+
+def _hist(size: int = MAX_CYCLE) -> np.ndarray:
     """Scratch records of the driver's cycle search: the last ``size`` periods."""
-    return R.records(R.HIST_DTYPE, size)
+    return _records(R.HIST_DTYPE, size)
+
+
+@functools.cache
+def _no_crossings() -> np.ndarray:
+    return _records(R.CROSS_DTYPE, (1, 0))
+
+
+@functools.cache
+def _no_recording() -> tuple:
+    return _records(R.ARC_DTYPE), _records(R.EVENT_DTYPE), _records(R.SAMPLE_DTYPE), _NO_STEPS
 
 
 _NO_BOUNDARIES = np.zeros((1, 0))
-_NO_CROSSINGS = R.records(R.CROSS_DTYPE, (1, 0))
 _NO_STEPS = np.zeros(0, dtype=np.int64)
-_NO_RECORDING = (R.records(R.ARC_DTYPE), R.records(R.EVENT_DTYPE), R.records(R.SAMPLE_DTYPE), _NO_STEPS)
 
 
 def _trajectory(scene, method, options, code, row, record, origin, arcs, events, samples, cpu,
@@ -372,7 +399,7 @@ def simulate_batch(profiles, x0, v0=0.0, phase=0.0, *, profile_index=None, surfa
     if np.any((index < 0) | (index >= table.size)):
         raise ValueError(f"profile_index must lie in [0, {table.size})")
     dt = table.rows[index, R.DT]
-    members = R.records(R.MEMBER_DTYPE, size)
+    members = _records(R.MEMBER_DTYPE, size)
     x0 = _member_array("x0", x0, size)
     phase = _member_array("phase", phase, size)
     if np.any((phase < 0.0) | (phase >= 1.0)):
@@ -410,7 +437,7 @@ def simulate_batch(profiles, x0, v0=0.0, phase=0.0, *, profile_index=None, surfa
             raise ValueError("levels must not be NaN (+inf: never reached)")
         zone_b = np.where(members["zone"][:, None], np.stack([origin, origin + members["w"]], axis=1), np.nan)
         boundaries = np.concatenate([zone_b, lev], axis=1)
-    crossings = R.records(R.CROSS_DTYPE, boundaries.shape)
+    crossings = _records(R.CROSS_DTYPE, boundaries.shape)
     crossings["period"] = -1
     crossings["tau"] = crossings["v"] = np.nan
     relative = boundaries - origin[:, None]
@@ -418,8 +445,9 @@ def simulate_batch(profiles, x0, v0=0.0, phase=0.0, *, profile_index=None, surfa
     call(K.run_members, members, table.code, table.rows, until_code, total, options.get("max_events", 2**62),
          int(max_cycle), options["accumulation_tol"], relative, crossings, bool(fast_forward),
          options.get("iteration") == "fixed_point", options.get("fp_tol", 0.0), options.get("fp_max_iter", 1),
-         R.records(R.HIST_DTYPE, int(max_cycle)), *_NO_RECORDING)
+         _hist(int(max_cycle)), *_no_recording())
     if method == "moreau":
         options = {**options, "h": float(table.rows[0, R.DATA + 1])}
-    return BatchResult(records=members, origin=origin, dt=dt, boundaries=boundaries, crossings=crossings,
-                       method=method, options=options, until=until, horizon=total)
+    return BatchResult(records=members.view(np.recarray), origin=origin, dt=dt, boundaries=boundaries,
+                       crossings=crossings.view(np.recarray), method=method, options=options, until=until,
+                       horizon=total)
