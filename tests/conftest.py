@@ -25,7 +25,7 @@ def update_figure_refs(request) -> bool:
     return request.config.getoption("--update-figure-refs")
 
 
-@pytest.fixture
+@pytest.fixture(scope="session")
 def repo() -> Path:
     return REPO
 

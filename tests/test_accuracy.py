@@ -15,6 +15,9 @@ from selfalign.analysis.accuracy import StudySettings, fit_loglog, loglog_interp
 from selfalign.analysis.steady_state import steady_state
 from selfalign.io.hdf5 import read_h5, write_h5
 
+#: solve_ivp forms its Runge-Kutta stages with np.dot (BLAS): .ci/run reruns these under other kernels.
+pytestmark = pytest.mark.blas
+
 #: Small settings: Moreau n = 100 .. 1e5 steps per period (3 decades, 13 values), solve_ivp at
 #: three tolerances, every run timed once.
 SMALL = StudySettings(moreau_steps_per_period=(100, 100_000, 13), ivp_rtol=(1e-4, 1e-8, 3),

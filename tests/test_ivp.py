@@ -12,6 +12,9 @@ import pytest
 import selfalign as sa
 from selfalign.analysis.stick_map import stick_map as closed_form_stick_map
 
+#: solve_ivp forms its Runge-Kutta stages with np.dot (BLAS): .ci/run reruns these under other kernels.
+pytestmark = pytest.mark.blas
+
 PROFILE = sa.ThreePhaseProfile(1.05, 0.084, 2.2, 0.9)   # Fig. 18 settings: case 1
 ZONE = sa.StopZone(0.5, 0.05, 2.5)                       # Sect. 7.2
 

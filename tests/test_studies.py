@@ -197,7 +197,7 @@ def test_steady_state_gradient_matches_differences_of_steady_states():
 
 
 def test_fourier_optimisation_improves_f_within_the_constraints():
-    """Sect. 4.4.2: SLSQP lowers f of the 12th-order Fourier profile from its start (the
+    """Sect. 4.4.2: the SQP (analysis.sqp) lowers f of the 12th-order Fourier profile from its start (the
     polynomial profile truncated, f = 1.40e-3) while keeping the stroke <= dy, |y'| <= 3.2 and
     |y''| <= 1275 (true extremes, 0.5 % above at most, between the constraint samples)."""
     dt, dy, yd_max, ydd_max = FIG6

@@ -16,6 +16,7 @@ import numpy as np
 
 from ..model.profiles import FourierProfile, PolynomialProfile, ThreePhaseProfile, three_phase_times
 from .classification import decision_quantities
+from .sqp import dot, minimise
 from .steady_simulation import SimulatedSteadyState, exact_steady_state, objective, run_periods
 from .steady_state import steady_state_grid
 
@@ -83,46 +84,55 @@ def steady_vbar_gradient(profile_of, z, steady: SimulatedSteadyState, count: int
     return grad
 
 
+def harmonic_rows(dt: float, dy: float, order: int, samples: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Rows mapping the coefficients (a_1..a_N, b_1..b_N) in units of dy to y / dy, y' and y''
+    at t_j = j dt / samples.  cos and sin of 2 pi k j / samples come from one table indexed by
+    (k j) mod samples, so every row is exactly periodic and the same bits on every machine."""
+    angle = 2.0 * math.pi / samples
+    cos_table = np.array([math.cos(angle * i) for i in range(samples)])
+    sin_table = np.array([math.sin(angle * i) for i in range(samples)])
+    k = np.arange(1, order + 1)
+    phase = np.multiply.outer(np.arange(samples), k) % samples
+    cos, sin = cos_table[phase], sin_table[phase]
+    w = 2.0 * math.pi * k / dt
+    pos = np.hstack([cos, sin])
+    vel = dy * np.hstack([-sin * w, cos * w])
+    acc = dy * np.hstack([-cos * w**2, -sin * w**2])
+    return pos, vel, acc
+
+
 def optimise_fourier(dt: float, dy: float, yd_max: float, ydd_max: float, *, order: int = 12,
                      max_iter: int = 40, samples: int | None = None, fd_step: float = 1e-9,
-                     first_step: float = 0.02, forward_fraction: float = 0.8) -> FourierOptimum:
+                     first_step: float = 0.02, min_step: float = 1e-9,
+                     forward_fraction: float = 0.8) -> FourierOptimum:
     """Fig. 6 (Sect. 4.4.2): maximise vbar (i.e. minimise f, eq. 11) over the Fourier
-    coefficients of y, with SLSQP.
+    coefficients of y, by the BLAS-free SQP of :mod:`selfalign.analysis.sqp`.
 
     Variables z: the coefficients a_k, b_k (k = 1..order) in units of dy, and the
-    bounds m, M of y / dy.  Constraints, on ``samples`` equally spaced times
-    (default 64 (order + 1), the exact solver's event grid): m <= y / dy <= M
-    with M - m = 1, i.e. stroke <= dy, |y'| <= yd_max, |y''| <= ydd_max.  All
-    are linear in z, so SLSQP meets them exactly on the samples (between
-    samples a peak may exceed its bound by ~(pi / samples per shortest
-    period)^2 / 2 relative).  The stroke bound is an inequality: a dithering
-    profile (README) may do better with a slightly smaller stroke.  The true
-    stroke and peaks are reported in ``settings``.
+    lower bound m of y / dy.  Constraints, on ``samples`` equally spaced times
+    (default 64 (order + 1), the exact solver's event grid): m <= y / dy <= m + 1,
+    i.e. stroke <= dy, |y'| <= yd_max, |y''| <= ydd_max.  All are linear in z, so every
+    iterate meets them exactly on the samples (between samples a peak may exceed its
+    bound by ~(pi / samples per shortest period)^2 / 2 relative).  The stroke bound is
+    an inequality: a dithering profile (README) may do better with a slightly smaller
+    stroke.  The true stroke and peaks are reported in ``settings``.
 
     Objective: -vbar of the steady state the exact solver reaches from rest, x'(0) = 0
     at t = 0 (:func:`exact_steady_state`; the same start for every profile, as
-    dithering profiles can have several steady motions), scaled so that SLSQP's
-    first step (identity Hessian) has length ``first_step`` in z.  Gradient: implicit
-    differentiation of the steady state.  With P(v; z), D(v; z) the velocity and
-    displacement after the k periods of the steady cycle from x'(0) = v, the fixed
-    point v* = P(v*; z) moves by dv*/dz = P_z / (1 - P_v), so
-    dvbar/dz = (D_z + D_v dv*/dz) / (k dt); P_z, D_z are forward differences of
-    step ``fd_step`` and P_v, D_v of step PROBE * (velocity swing), each a
-    k-period run from v* — 2 (order + 1) short runs instead of 2 order steady
-    states.  A trial profile whose motion does not settle within
-    OPTIMISER_PERIODS periods gets its time-averaged vbar, and, should SLSQP ask
-    for a gradient there, the one-period linearisation at its last state.
-    Start: :func:`fourier_start`.
+    dithering profiles can have several steady motions).  Gradient: implicit
+    differentiation of the steady state (:func:`steady_vbar_gradient`).  A trial profile
+    whose motion does not settle within OPTIMISER_PERIODS periods gets its
+    time-averaged vbar.  Start: :func:`fourier_start`, scaled down if needed to meet
+    the velocity and acceleration bounds.  The first step has length ``first_step`` in
+    z; the optimiser stops at a first-order point or a kink, when a step is shorter
+    than ``min_step``, or after ``max_iter`` iterations.
 
-    The path of the iterates is sensitive to rounding (the objective is not smooth
-    where a slip grazes x' = 0, and SciPy's SLSQP sums differently with the BLAS
-    thread count), so it is reproducible for a fixed thread count and machine;
-    the workflow runs it single-threaded.
+    Every operation on the path is elementwise numpy, Python floats or the compiled exact
+    solver, never BLAS or LAPACK, so the optimum is the same bits under every BLAS kernel
+    and thread count (tests/test_fourier_design.py runs it under two kernels).
     """
-    from scipy.optimize import minimize
-
     for name, value in (("dt", dt), ("dy", dy), ("yd_max", yd_max), ("ydd_max", ydd_max),
-                        ("fd_step", fd_step), ("first_step", first_step)):
+                        ("fd_step", fd_step), ("first_step", first_step), ("min_step", min_step)):
         if not (math.isfinite(value) and value > 0):
             raise ValueError(f"{name} must be finite and > 0, got {value!r}")
     if isinstance(order, bool) or not isinstance(order, int) or order < 1:
@@ -133,21 +143,13 @@ def optimise_fourier(dt: float, dy: float, yd_max: float, ydd_max: float, *, ord
     start_time = time.perf_counter()
     start = fourier_start(dt, dy, order, forward_fraction)
     n_coef = 2 * order
-    w = 2.0 * np.pi * np.arange(1, order + 1) / dt
-    t = np.arange(samples) * dt / samples
-    cos, sin = np.cos(np.outer(t, w)), np.sin(np.outer(t, w))
-    # Rows map z to y / dy, y' and y'' at the samples.
-    zeros = np.zeros((samples, 2))
-    pos = np.hstack([cos, sin, zeros])
-    vel = dy * np.hstack([-sin * w, cos * w, zeros])
-    acc = dy * np.hstack([-cos * w**2, -sin * w**2, zeros])
-    lower, upper = np.zeros((samples, n_coef + 2)), np.zeros((samples, n_coef + 2))
-    lower[:, -2] = upper[:, -1] = 1.0
-    # Inequalities G z + g >= 0: y - m, M - y, yd_max -+ y', ydd_max -+ y''.
-    G = np.vstack([pos - lower, upper - pos, -vel, vel, -acc, acc])
-    g = np.concatenate([np.zeros(2 * samples), np.full(2 * samples, yd_max), np.full(2 * samples, ydd_max)])
-    E = np.zeros((1, n_coef + 2))
-    E[0, -1], E[0, -2] = 1.0, -1.0
+    pos, vel, acc = harmonic_rows(dt, dy, order, samples)
+    ones, zeros = np.ones((samples, 1)), np.zeros((samples, 1))
+    # A z <= b: m - y <= 0, y - m <= 1, -+ y' <= yd_max, -+ y'' <= ydd_max.
+    A = np.vstack([np.hstack([-pos, ones]), np.hstack([pos, -ones]), np.hstack([-vel, zeros]),
+                   np.hstack([vel, zeros]), np.hstack([-acc, zeros]), np.hstack([acc, zeros])])
+    b = np.concatenate([np.zeros(samples), np.ones(samples), np.full(2 * samples, yd_max),
+                        np.full(2 * samples, ydd_max)])
 
     def profile_of(z):
         return FourierProfile(dt, dy * z[:order], dy * z[order:n_coef])
@@ -160,30 +162,25 @@ def optimise_fourier(dt: float, dy: float, yd_max: float, ydd_max: float, *, ord
             cache[key] = exact_steady_state(profile_of(z), max_periods=OPTIMISER_PERIODS, aperiodic="average")
         return cache[key]
 
-    def vbar_gradient(z):
-        return steady_vbar_gradient(profile_of, z, steady(z), n_coef, fd_step)
-    z0 = np.concatenate([start.cos_coeffs / dy, start.sin_coeffs / dy, [0.0, 0.0]])
-    y0 = pos @ z0
-    z0[-2], z0[-1] = y0.min(), y0.min() + 1.0
-    scale = first_step / np.linalg.norm(vbar_gradient(z0))
-    history = [float(steady(z0).f[0])]
-    res = minimize(lambda z: -scale * float(steady(z).vbar[0]), z0, jac=lambda z: -scale * vbar_gradient(z),
-                   method="SLSQP", callback=lambda z: history.append(float(steady(z).f[0])),
-                   constraints=[{"type": "ineq", "fun": lambda z: G @ z + g, "jac": lambda z: G},
-                                {"type": "eq", "fun": lambda z: E @ z - 1.0, "jac": lambda z: E}],
-                   options={"maxiter": max_iter, "ftol": 1e-12})
-    best = profile_of(res.x)
-    final = steady(res.x)
+    coeffs = np.concatenate([start.cos_coeffs, start.sin_coeffs]) / dy
+    fit = min(1.0, yd_max / float(np.max(np.abs(dot(vel, coeffs)))),
+              ydd_max / float(np.max(np.abs(dot(acc, coeffs)))))
+    z0 = np.concatenate([fit * coeffs, [float(np.min(dot(pos, fit * coeffs)))]])
+    result = minimise(lambda z: -float(steady(z).vbar[0]),
+                      lambda z: -steady_vbar_gradient(profile_of, z, steady(z), n_coef, fd_step),
+                      z0, A, b, first_step=first_step, min_step=min_step, max_iter=max_iter)
+    best = profile_of(result.x)
+    final = steady(result.x)
     vbar = float(final.vbar[0])
     settings = {"dt": float(dt), "dy": float(dy), "yd_max": float(yd_max), "ydd_max": float(ydd_max),
                 "order": order, "max_iter": max_iter, "samples": samples, "fd_step": fd_step,
-                "first_step": first_step, "forward_fraction": float(forward_fraction), "stroke": best.stroke,
-                "peak_velocity": best.peak_velocity, "peak_acceleration": best.peak_acceleration,
-                "cycle": int(final.cycle[0])}
+                "first_step": first_step, "min_step": min_step, "forward_fraction": float(forward_fraction),
+                "stroke": best.stroke, "peak_velocity": best.peak_velocity,
+                "peak_acceleration": best.peak_acceleration, "cycle": int(final.cycle[0])}
     return FourierOptimum(profile=best, start=start, vbar=vbar, f=float(objective(vbar)),
-                          v0=float(final.v0[0]), history_f=np.array(history, dtype=float),
-                          iterations=int(res.nit), evaluations=len(cache), success=bool(res.success),
-                          message=str(res.message), seconds=time.perf_counter() - start_time,
+                          v0=float(final.v0[0]), history_f=np.array([objective(-h) for h in result.history]),
+                          iterations=result.iterations, evaluations=len(cache), success=result.converged,
+                          message=result.message, seconds=time.perf_counter() - start_time,
                           settings=settings)
 
 

@@ -117,7 +117,7 @@ def fourier_optimum(fig, d: dict, a: dict):
     axes[1, 1].set_xlabel("$t$")
     hist = axes[2, 1]
     hist.semilogy(np.arange(d["history_f"].size), d["history_f"], color="k", marker=".", markersize=3,
-                  linewidth=0.8, label="Fourier (SLSQP iterates)")
+                  linewidth=0.8, label="Fourier (SQP iterates)")
     hist.axhline(a["three_phase_f"], color="tab:red", linestyle="--", linewidth=1.0, label="best three-phase")
     hist.set_xlabel("iteration")
     hist.set_ylabel("$f$")
