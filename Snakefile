@@ -18,7 +18,7 @@ try:
     # One line naming the file and the key, like a bad scene, before Snakemake's own
     # validation (which also fills in the schema's defaults).
     validate_config(config, f"{workflow.basedir}/workflow/schemas/config.schema.yaml",
-                    "workflow/config/config.yaml")
+                    "workflow/config/config.yaml", workflow.config_settings.overwrite_config)
 except SceneError as exc:
     raise WorkflowError(f"invalid config: {exc}") from None
 validate(config, "workflow/schemas/config.schema.yaml")

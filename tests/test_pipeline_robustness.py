@@ -134,6 +134,30 @@ def test_malformed_config_stops_before_any_job(workdir, old, new, keys):
     assert not (workdir / "results").exists()
 
 
+def test_bad_command_line_override_is_named(workdir):
+    """Issue 11.4: a bad value given with --config is reported as that override (not as the
+    config file, which is fine), before any job."""
+    rc, out = snakemake(workdir, "-c2", *TARGETS, "--config", "figures={dpi: -1}")
+    assert rc != 0
+    assert "override --config figures.dpi" in out, out
+    assert "workflow/config/config.yaml" not in out.split("invalid config:")[1].splitlines()[0], out
+    assert not (workdir / "results").exists()
+
+
+def test_bad_solver_option_in_a_scene_stops_before_any_job(workdir):
+    """Issue 11.4: a scene's solver options are checked when the scene is loaded, so a bad one
+    stops the run (here: a Moreau step that needs 1e300 steps per period) before any job,
+    naming the scene file, instead of failing inside the simulation job."""
+    scene = workdir / "workflow/scenes/polynomial.yaml"
+    text = scene.read_text()
+    assert "solver:" not in text
+    scene.write_text(text + "solver: {method: moreau, options: {h: 1.0e-300}}\n")
+    rc, out = snakemake(workdir, "-c2", *TARGETS)
+    assert rc != 0
+    assert "workflow/scenes/polynomial.yaml: solver: option h = 1e-300 needs" in out, out
+    assert not (workdir / "results").exists()
+
+
 def test_config_naming_a_missing_scene_stops_before_any_job(workdir):
     """A config that names a scene without a file stops the run before any job, naming the
     missing scene file."""

@@ -7,7 +7,7 @@ import pytest
 import rerun as rr
 from rerun.chunk import RrdReader
 
-from selfalign.io.recording import default_groups, read_recording, write_recording
+from selfalign.io.recording import content_id, default_groups, read_recording, write_recording
 
 
 @pytest.fixture
@@ -102,3 +102,17 @@ def test_heavy_libraries_load_lazily():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
                          cwd=Path(__file__).parent)
     assert out.stdout.strip() == "[]"
+
+
+def test_recording_id_follows_the_content(tmp_path):
+    """Issue 11.1: two writes of the same series carry the same recording id (derived from the
+    content, not random), and other values give another id."""
+    t, series = _series(10)
+    first = content_id("selfalign", "time", t, series)
+    assert first == content_id("selfalign", "time", t.copy(), {k: v.copy() for k, v in series.items()})
+    changed = {k: v + (k == sorted(series)[0]) * 1e-12 for k, v in series.items()}
+    assert content_id("selfalign", "time", t, changed) != first
+    for name in ("a.rrd", "b.rrd"):
+        write_recording(tmp_path / name, t, series)
+    ids = [[e.recording_id for e in RrdReader(tmp_path / name).recordings()] for name in ("a.rrd", "b.rrd")]
+    assert ids == [[str(first)], [str(first)]]

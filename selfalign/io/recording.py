@@ -11,6 +11,7 @@ when a scene asks for a recording.
 
 from __future__ import annotations
 
+import hashlib
 import re
 import uuid
 from pathlib import Path
@@ -71,7 +72,7 @@ def write_recording(path, times, series: dict, *, timeline: str = "time",
     )
     index = rr.TimeColumn(timeline, duration=np.round(times * 1e9).astype("timedelta64[ns]"))
     with atomic_path(path) as tmp:
-        rec = rr.RecordingStream(application_id, recording_id=uuid.uuid4())
+        rec = rr.RecordingStream(application_id, recording_id=content_id(application_id, timeline, times, columns))
         rec.save(tmp, default_blueprint=blueprint)
         try:
             for name, values in columns.items():
@@ -79,6 +80,21 @@ def write_recording(path, times, series: dict, *, timeline: str = "time",
         finally:
             rec.disconnect()
     return Path(path)
+
+
+def content_id(application_id: str, timeline: str, times: np.ndarray, columns: dict) -> uuid.UUID:
+    """The recording id of these contents: a UUID from the SHA-256 of the application id, the
+    timeline, the times and every series (name and float64 bytes), so that the same inputs
+    give the same recording (the viewer shows two writes of one scene as one recording).
+    rerun itself still stamps each write with its own chunk ids and start time, so the file
+    bytes differ between writes; the data read back (:func:`read_recording`) do not."""
+    digest = hashlib.sha256()
+    for part in (application_id, timeline):
+        digest.update(part.encode() + b"\0")
+    digest.update(np.ascontiguousarray(times, dtype=float).tobytes())
+    for name in sorted(columns):
+        digest.update(name.encode() + b"\0" + np.ascontiguousarray(columns[name], dtype=float).tobytes())
+    return uuid.UUID(bytes=digest.digest()[:16], version=5)
 
 
 def read_recording(path, *, timeline: str = "time") -> dict[str, tuple[np.ndarray, np.ndarray]]:

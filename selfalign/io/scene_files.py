@@ -18,6 +18,7 @@ from ..model.friction import StopZone, Uniform
 from ..model.profiles import FourierProfile, PolynomialProfile, ThreePhaseProfile
 from ..model.scene import Record, Scene
 from ..model.units import SIScale
+from ..solvers.methods import check_scene
 
 
 @lru_cache(maxsize=1)
@@ -138,7 +139,7 @@ def scene_from_dict(data: dict, source: str = "<scene>", name: str | None = None
     solver = data.get("solver", {})
     record = data.get("record", {})
     try:
-        return Scene(
+        scene = Scene(
             profile=profile, surface=surface,
             x0=value(start, "x0", "length", 0.0), v0=value(start, "v0", "velocity", 0.0),
             phase=start.get("phase", 0.0),
@@ -152,6 +153,13 @@ def scene_from_dict(data: dict, source: str = "<scene>", name: str | None = None
         )
     except (SceneError, ValueError) as exc:
         raise SceneError(f"{source}: {exc}") from None
+    # The solver and its options are checked here, when the scene is loaded (and so at
+    # `snakemake -n`), not first inside the job that simulates it.
+    try:
+        check_scene(scene)
+    except ValueError as exc:
+        raise SceneError(f"{source}: solver: {exc}") from None
+    return scene
 
 
 def load_scene(path) -> Scene:
@@ -172,11 +180,13 @@ def load_scene(path) -> Scene:
     return scene_from_dict(data, source=str(path), name=path.stem)
 
 
-def validate_config(config: dict, schema_path, source: str) -> None:
+def validate_config(config: dict, schema_path, source: str, overrides: dict | None = None) -> None:
     """Check a workflow config against its schema (which may $ref the scene schema).
 
     Raises SceneError with one line naming ``source`` and the key, the same
-    form as a bad scene file.
+    form as a bad scene file.  ``overrides``: the values given on the command line
+    (``--config``/``--configfile``), merged into ``config``; an error inside one of
+    them names that override instead of ``source``.
     """
     import jsonschema
     import yaml
@@ -188,4 +198,16 @@ def validate_config(config: dict, schema_path, source: str) -> None:
     errors = list(validator.iter_errors(config))
     if errors:
         error = max(errors, key=lambda e: (len(e.absolute_path), e.validator == "additionalProperties"))
-        raise SceneError(f"{source}: {schema_error_message(error)}")
+        raise SceneError(f"{_origin(list(error.absolute_path), source, overrides or {})}: "
+                         f"{schema_error_message(error)}")
+
+
+def _origin(path: list, source: str, overrides: dict) -> str:
+    """Where the config value at ``path`` came from: the deepest override on that path, or ``source``."""
+    keys, node = [], overrides
+    for key in path:
+        if not isinstance(node, dict) or key not in node:
+            break
+        keys.append(str(key))
+        node = node[key]
+    return f"the command-line override --config {'.'.join(keys)}=..." if keys else source
