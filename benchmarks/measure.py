@@ -19,25 +19,19 @@ import time
 from pathlib import Path
 
 import numpy as np
+import reference
 
+from selfalign.analysis.positioning import positioning_grid
 from selfalign.model.friction import StopZone, Uniform
 from selfalign.model.profiles import ThreePhaseProfile
 from selfalign.model.scene import Scene
-from selfalign.solvers.driver import simulate
+from selfalign.solvers.driver import simulate, simulate_batch
 
 #: The Fig. 18 profile (case 1, stick-slip), used by every benchmark.
 PROFILE = ThreePhaseProfile(1.05, 0.084, 2.2, 0.9)
 #: A transition zone so wide that the mass stays inside it: a harmonic arc every
 #: period and no steady state to fast-forward, so both solvers really integrate.
 WIDE_ZONE = StopZone(-1000.0, 1e4, 2.0)
-
-#: Floating-point operations of one quadratic-arc event of the batched exact solver
-#: (selfalign/solvers/batch.py, ``_Batch._slip``): stop time and position (7), boundary
-#: crossing by energy (9, one sqrt), crossing time (3), arc step x, v (7), start
-#: acceleration (3), and the ~11 comparisons/selects that pick the event; a division
-#: or a square root counts as one operation.
-FLOPS_PER_EVENT = 40
-
 
 def machine() -> dict:
     """Platform, CPU model (from /proc/cpuinfo where it exists), cores, Python and numpy."""
@@ -91,84 +85,135 @@ def exact_vs_moreau(periods: int = 50, tolerances=(1e-2, 1e-3, 1e-4),
     return rows
 
 
-def single_trajectory(periods: int = 20_000, repeat: int = 3) -> list[dict]:
-    """Events per second of the exact solver's own event loop (no recording, no fast-forward)."""
-    from selfalign.solvers.exact import ExactSolver
+def _reference_inputs(surface):
+    """(w, c_mu, xi offset) of the reference loop for a surface: positions relative to x_mu."""
+    if isinstance(surface, StopZone):
+        return surface.w, surface.c_mu, -surface.x_mu
+    return 1.0, 1.0, 0.0
 
+
+def single_trajectory(periods: int = 200_000, repeat: int = 3) -> list[dict]:
+    """Events per second of one exact trajectory (nothing recorded, no fast-forward), through
+    the engine's driver and through the minimal compiled loop of :mod:`reference` on the same
+    scene, in the same process; ``max_end_difference``: |x_end engine - x_end reference|."""
     cases = {"uniform surface (quadratic arcs)": Uniform(), "transition zone (harmonic arcs)": WIDE_ZONE}
     rows = []
     for name, surface in cases.items():
-        events = ExactSolver(PROFILE, surface, record=False).advance(periods)
-        seconds = _best(lambda: ExactSolver(PROFILE, surface, record=False).advance(periods), repeat)
-        rows.append({"case": name, "events": int(events), "seconds": seconds, "events_per_s": events / seconds})
+        def engine():
+            return simulate_batch(PROFILE, 0.0, surface=surface, until="periods", periods=periods,
+                                  fast_forward=False)
+
+        w, c_mu, shift = _reference_inputs(surface)
+
+        def minimal():
+            return reference.run(PROFILE.breaks, PROFILE.accels, w, c_mu, shift, 0.0, periods)
+
+        result, (xi, _, ref_events) = engine(), minimal()
+        events = int(result.events[0])
+        seconds, ref_seconds = _best(engine, repeat), _best(minimal, repeat)
+        rows.append({"case": name, "periods": periods, "events": events, "seconds": seconds,
+                     "events_per_s": events / seconds, "reference_events": int(ref_events),
+                     "reference_events_per_s": ref_events / ref_seconds,
+                     "max_end_difference": abs(float(result.x_end[0]) - (xi - shift))})
     return rows
 
 
-def _sweep_grid(n: int):
-    """An n x n grid of (y2'', y3'') with every profile physical (q <= 1) at dt = 1.05, dy = 0.084."""
+def _sweep_profiles(n: int):
+    """An n x n grid of three-phase profiles (y2'' in [2, 4], y3'' in [0.9, 3], all physical) at
+    the dt, dy of :data:`PROFILE`."""
     y2, y3 = np.meshgrid(np.linspace(2.0, 4.0, n), np.linspace(0.9, 3.0, n), indexing="ij")
-    return y2.ravel(), y3.ravel()
+    return [ThreePhaseProfile(PROFILE.dt, PROFILE.dy, a, b) for a, b in zip(y2.ravel(), y3.ravel())]
 
 
-def batched_sweep(n: int = 64, periods: int = 20, repeat: int = 2) -> list[dict]:
-    """Throughput of the batched exact solver and the batched Moreau scheme on an n x n sweep.
-
-    Numpy runs these on one core, so trajectory-events per second is per core.  For the
-    exact solver, ``events_per_s_per_core`` is set next to what arithmetic alone would
-    allow: :data:`FLOPS_PER_EVENT` divided into (a) the measured numpy elementwise rate at
-    this batch size and (b) the measured single-core floating-point peak.
-    """
-    from selfalign.solvers.batch import solve_batch, three_phase_pieces
-
-    from selfalign.solvers import moreau
-
-    y2, y3 = _sweep_grid(n)
-    breaks, accels = three_phase_pieces(PROFILE.dt, PROFILE.dy, y2, y3)
-    rates = arithmetic_rates(y2.size)
+def batched_sweep(n: int = 64, periods: int = 20, repeat: int = 3) -> list[dict]:
+    """Trajectory-events per second of one batch call over an n x n sweep (one core: the
+    batch is a loop over members), next to the reference loop over the same members, and
+    trajectory-steps per second of the Moreau batch (h = dt/1000)."""
+    profiles = _sweep_profiles(n)
+    breaks = np.array([p.breaks for p in profiles])
+    accels = np.array([p.accels for p in profiles])
     rows = []
-    for name, zone in (("uniform surface", {}),
-                       ("transition zone", {"x_mu": WIDE_ZONE.x_mu, "w": WIDE_ZONE.w, "c_mu": WIDE_ZONE.c_mu})):
-        result = solve_batch(breaks, accels, 0.0, until="periods", periods=periods, **zone)
-        seconds = _best(lambda: solve_batch(breaks, accels, 0.0, until="periods", periods=periods, **zone),
-                        repeat)
+    for name, surface in (("uniform surface", Uniform()), ("transition zone", WIDE_ZONE)):
+        def engine():
+            return simulate_batch(profiles, 0.0, surface=surface, until="periods", periods=periods,
+                                  fast_forward=False)
+
+        w, c_mu, shift = _reference_inputs(surface)
+        start = np.full(len(profiles), shift)
+
+        def minimal():
+            return reference.run_batch(breaks, accels, w, c_mu, start, np.zeros(len(profiles)), periods)
+
+        result, (xi, _, ref_events) = engine(), minimal()
         events = int(result.events.sum())
-        rows.append({"solver": f"exact batch, {name}", "trajectories": y2.size, "periods": periods,
+        seconds, ref_seconds = _best(engine, repeat), _best(minimal, repeat)
+        rows.append({"solver": f"exact batch, {name}", "trajectories": len(profiles), "periods": periods,
                      "unit": "events", "count": events, "seconds": seconds, "per_s_per_core": events / seconds,
-                     "numpy_bound": rates["numpy_elementwise_flops"] / FLOPS_PER_EVENT,
-                     "fma_bound": rates["peak_flops"] / FLOPS_PER_EVENT})
-    profiles = [ThreePhaseProfile(PROFILE.dt, PROFILE.dy, a, b) for a, b in zip(y2, y3)]
-    steps = moreau.solve_batch(profiles, Uniform(), 0.0, 0.0, periods=1).steps_per_period * periods * y2.size
-    seconds = _best(lambda: moreau.solve_batch(profiles, Uniform(), 0.0, 0.0, periods=periods), repeat)
-    rows.append({"solver": "Moreau batch (h = dt/1000), uniform surface", "trajectories": y2.size,
+                     "reference_per_s": int(ref_events.sum()) / ref_seconds,
+                     "max_end_difference": float(np.max(np.abs(result.x_end - (xi - shift))))})
+
+    def moreau():
+        return simulate_batch(profiles, 0.0, until="periods", periods=periods, method="moreau",
+                              steps_per_period=1000)
+
+    moreau()
+    steps = 1000 * periods * len(profiles)
+    seconds = _best(moreau, repeat)
+    rows.append({"solver": "Moreau batch (h = dt/1000), uniform surface", "trajectories": len(profiles),
                  "periods": periods, "unit": "steps", "count": steps, "seconds": seconds,
-                 "per_s_per_core": steps / seconds, "numpy_bound": None, "fma_bound": None})
+                 "per_s_per_core": steps / seconds, "reference_per_s": None, "max_end_difference": None})
     return rows
 
 
-def arithmetic_rates(size: int, repeat: int = 5) -> dict:
-    """Measured floating-point rates of this machine, operations per second on one core.
+def simulate_latency(calls: int = 2000) -> dict:
+    """Median wall time of ``sa.simulate`` of a 5-period scene (Fig. 18 profile, uniform
+    surface) after warm-up, over ``calls`` calls."""
+    scene = Scene(PROFILE, periods=5)
+    simulate(scene)
+    times = np.empty(calls)
+    for i in range(calls):
+        start = time.perf_counter()
+        simulate(scene)
+        times[i] = time.perf_counter() - start
+    return {"calls": calls, "median_us": float(np.median(times)) * 1e6,
+            "p90_us": float(np.percentile(times, 90)) * 1e6}
 
-    ``numpy_elementwise_flops``: one numpy ufunc (multiply-add as two calls) on arrays of
-    `size` elements, the way the batched solver computes.  ``peak_flops``: a float64
-    matrix product on one BLAS thread (in a subprocess, so the thread count is fixed
-    before numpy loads), close to the FMA peak of one core.
-    """
-    a, b, c = (np.random.default_rng(seed).random(size) for seed in (1, 2, 3))
-    loops = max(1, 2_000_000 // size)
 
-    def elementwise():
-        for _ in range(loops):
-            np.multiply(a, b, out=c)
-            np.add(c, a, out=c)
+FIRST_CALL = ("import time; t0 = time.perf_counter(); import selfalign as sa; "
+              "p = sa.ThreePhaseProfile(1.05, 0.084, 2.2, 0.9); t1 = time.perf_counter(); "
+              "sa.simulate(sa.Scene(p, periods=5)); t2 = time.perf_counter(); "
+              "sa.simulate(sa.Scene(p, sa.StopZone(0.1, 0.05, 2.5), until='rest', max_periods=50)); "
+              "print(t1 - t0, t2 - t1, time.perf_counter() - t2)")
 
-    seconds = _best(elementwise, repeat)
-    env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1", MKL_NUM_THREADS="1")
-    code = ("import time, numpy as np; n = 768; a = np.random.rand(n, n); a @ a; best = 1e9\n"
-            "for _ in range(5):\n    t = time.perf_counter(); a @ a; best = min(best, time.perf_counter() - t)\n"
-            "print(2 * n ** 3 / best)")
-    peak = float(subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True,
-                                check=True).stdout)
-    return {"numpy_elementwise_flops": 2 * size * loops / seconds, "peak_flops": peak}
+
+def first_call(cold: bool = True) -> dict:
+    """Seconds of ``import selfalign`` and of the first ``simulate`` in a fresh process: with
+    an empty numba cache (the kernel compiles, ~20 s; skipped unless ``cold``) and with a
+    filled one (the compiled kernel is loaded from disk: cache=True)."""
+    out = {"cold": None}
+    with tempfile.TemporaryDirectory(prefix="selfalign-cache-") as cache:
+        env = dict(os.environ, SELFALIGN_CACHE_DIR=cache) if cold else dict(os.environ)
+        for label in ("cold", "cached") if cold else ("cached",):
+            proc = subprocess.run([sys.executable, "-c", FIRST_CALL], env=env, capture_output=True, text=True,
+                                  check=True)
+            imported, first, zone = (float(v) for v in proc.stdout.split())
+            out[label] = {"import_s": imported, "first_simulate_s": first, "first_zone_simulate_s": zone}
+    return out
+
+
+def fig17_sweep(n: int = 201, entries: int = 128, processes: int = 2) -> dict:
+    """Wall time of the Fig. 17 sweep (Sect. 7.2; dt = 1, dy = 0.084, w = 0.05, c_mu = 2.5,
+    (y2'', y3'') in [0.5, 2.5]^2 on an n x n grid, ``entries`` steady-state entries per
+    setting to their outcome, at most 1000 periods) over ``processes`` worker processes."""
+    y = np.linspace(0.5, 2.5, n)
+    y2, y3 = np.meshgrid(y, y, indexing="ij")
+    start = time.perf_counter()
+    grid = positioning_grid(1.0, 0.084, y2, y3, w=0.05, c_mu=2.5, n_entries=entries, levels=(0.99, 0.999),
+                            processes=processes)
+    seconds = time.perf_counter() - start
+    moving = int(grid.moving.sum())
+    return {"n": n, "entries": entries, "processes": processes, "moving": moving,
+            "trajectories": moving * entries, "events": int(grid.events), "seconds": seconds}
 
 
 def full_pipeline(repo: Path, cores: int = 2, timeout: float = 900.0) -> dict:
@@ -197,13 +242,18 @@ def full_pipeline(repo: Path, cores: int = 2, timeout: float = 900.0) -> dict:
 
 def run(repo: Path | None = None, tiny: bool = False, cores: int = 2) -> dict:
     """Every benchmark once; `tiny` shrinks all sizes (for tests), `repo` None skips the pipeline."""
-    size = ({"periods": 5, "tolerances": (1e-2,), "steps": (100, 1000), "repeat": 1}, 200, 8, 2)
-    full = ({"periods": 50}, 20_000, 64, 20)
-    moreau_args, single_periods, grid, sweep_periods = size if tiny else full
+    if tiny:
+        moreau_args, single, sweep, latency, fig17 = ({"periods": 5, "tolerances": (1e-2,), "steps": (100, 1000),
+                                                       "repeat": 1}, (200, 1), (8, 2, 1), 20, (9, 8, 1))
+    else:
+        moreau_args, single, sweep, latency, fig17 = {"periods": 50}, (200_000, 3), (64, 20, 3), 2000, (201, 128, 2)
     report = {"machine": machine(),
               "exact_vs_moreau": exact_vs_moreau(**moreau_args),
-              "single_trajectory": single_trajectory(single_periods, repeat=1 if tiny else 3),
-              "batched_sweep": batched_sweep(grid, sweep_periods, repeat=1 if tiny else 2),
+              "single_trajectory": single_trajectory(*single),
+              "batched_sweep": batched_sweep(*sweep),
+              "simulate_latency": simulate_latency(latency),
+              "first_call": first_call(cold=not tiny),
+              "fig17": fig17_sweep(*fig17),
               "pipeline": full_pipeline(repo, cores) if repo is not None else None}
     report["max_rss_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     return report
@@ -220,15 +270,29 @@ def format_table(report: dict) -> str:
                      f"{r['exact_s'] * 1e3:.2f} ms; Moreau {moreau_h} {r['moreau_s'] * 1e3:.1f} ms "
                      f"(error {r['moreau_error']:.1e}), {r['speedup']:.0f}x slower |")
     for r in report["single_trajectory"]:
-        lines.append(f"| single trajectory, exact, {r['case']} | {r['events_per_s']:.3g} events/s "
-                     f"({r['events']} events in {r['seconds']:.3f} s) |")
+        lines.append(f"| one trajectory, exact, {r['case']} | {r['events_per_s']:.3g} events/s ({r['events']} "
+                     f"events in {r['seconds']:.3f} s); minimal compiled loop {r['reference_events_per_s']:.3g}/s "
+                     f"(engine at {r['events_per_s'] / r['reference_events_per_s']:.0%}; end states differ by "
+                     f"{r['max_end_difference']:.1e}) |")
     for r in report["batched_sweep"]:
         text = (f"{r['per_s_per_core']:.3g} trajectory-{r['unit']}/s per core ({r['trajectories']} "
                 f"trajectories x {r['periods']} periods in {r['seconds']:.3f} s)")
-        if r["numpy_bound"] is not None:
-            text += (f"; arithmetic alone ({FLOPS_PER_EVENT} flops/event): {r['numpy_bound']:.3g}/s at numpy's "
-                     f"elementwise rate, {r['fma_bound']:.3g}/s at the FMA peak")
-        lines.append(f"| sweep, {r['solver']} | {text} |")
+        if r["reference_per_s"] is not None:
+            text += (f"; minimal compiled loop {r['reference_per_s']:.3g}/s (engine at "
+                     f"{r['per_s_per_core'] / r['reference_per_s']:.0%}; end states differ by "
+                     f"{r['max_end_difference']:.1e})")
+        lines.append(f"| batch, {r['solver']} | {text} |")
+    lat = report["simulate_latency"]
+    lines.append(f"| `sa.simulate`, 5 periods, after warm-up | median {lat['median_us']:.1f} µs, 90th percentile "
+                 f"{lat['p90_us']:.1f} µs ({lat['calls']} calls) |")
+    cold, cached = report["first_call"]["cold"], report["first_call"]["cached"]
+    compiled = f"empty numba cache (compiles): {cold['first_simulate_s']:.1f} s; " if cold else ""
+    lines.append(f"| first `simulate` in a fresh process | {compiled}cached: {cached['first_simulate_s']:.2f} s; "
+                 f"`import selfalign` {cached['import_s'] * 1e3:.0f} ms |")
+    f = report["fig17"]
+    lines.append(f"| Fig. 17 sweep {f['n']} x {f['n']} x {f['entries']} entries, {f['processes']} processes | "
+                 f"{f['seconds']:.1f} s ({f['trajectories']} trajectories, {f['events'] / 1e6:.0f} M events, "
+                 f"{f['events'] / f['seconds']:.3g} events/s) |")
     p = report["pipeline"]
     if p is not None:
         lines.append(f"| full pipeline `snakemake -c{p['cores']}`, clean results/ | {p['seconds']:.1f} s, "
