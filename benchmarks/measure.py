@@ -154,7 +154,7 @@ def batched_sweep(n: int = 64, periods: int = 20, repeat: int = 3) -> list[dict]
 
     def moreau():
         return simulate_batch(profiles, 0.0, until="periods", periods=periods, method="moreau",
-                              steps_per_period=1000)
+                              steps_per_period=1000, fast_forward=False)
 
     moreau()
     steps = 1000 * periods * len(profiles)
