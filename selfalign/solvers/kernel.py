@@ -55,7 +55,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import literally, njit
+from numba import literally, njit, types
+from numba.extending import intrinsic, overload
 
 from ..model import arcs as A
 from ..model import friction as F
@@ -63,6 +64,32 @@ from . import records as R
 from .outcomes import ACC_TOL_ULPS, HIGH, LOW, MOTION_FACTOR, NEAR_ULPS, STALL_EVENTS, ZONE, EventKind, Reason
 
 jit = njit(cache=True, error_model="numpy", nogil=True)
+inlined = njit(cache=True, error_model="numpy", nogil=True, inline="always")
+
+
+
+def borrowed(array):
+    """``array`` itself, for use inside the kernel without reference counting (below)."""
+    return array
+
+
+@intrinsic
+def _without_refcount(typingctx, array):
+    def codegen(context, builder, signature, args):
+        view = context.make_array(signature.args[0])(context, builder, value=args[0])
+        view.meminfo = context.get_constant_null(types.MemInfoPointer(types.voidptr))
+        return view._getvalue()
+    return array(array), codegen
+
+
+@overload(borrowed)
+def _borrowed(array):
+    """Compiled, a view of ``array`` with no memory-info pointer: numba increments and
+    decrements the reference count of every array argument at every call (an atomic
+    operation each, ~10 per period), and skips both for a NULL memory-info.  Safe because
+    the entry points' callers hold the arrays for the whole kernel call."""
+    return lambda array: _without_refcount(array)
+
 
 _INF = math.inf
 _EPS = 2.0 ** -52
@@ -202,7 +229,7 @@ def _on_stick(s, xi, mu, n, tau, until, holds):
     return DONE
 
 
-@jit
+@inlined
 def _next_boundary(bnd, cross):
     """The lowest boundary not crossed yet (inf if none): an arc that ends below it crosses
     nothing, so the steppers call :func:`_crossed` only for an arc that reaches it."""
@@ -265,12 +292,6 @@ def _pw_piece(row, tau):
 
 
 @jit
-def _pw_acc(row, tau):
-    m = int(row[R.DATA])
-    return row[R.DATA + 2 + m + _pw_piece(row, tau)]
-
-
-@jit
 def _arc_params(s, xi, mode, a):
     """(kind, region, mu_bar, x'') of the arc starting at xi in ``mode`` under y'' = a."""
     r = _region(s, xi, mode)
@@ -295,7 +316,7 @@ def _harmonic_reaches(xi, v, acc0, b1, om, xb):
     return centre + amplitude >= xb - 1e-9 * (abs(centre) + amplitude + abs(xb))
 
 
-@jit
+@inlined
 def _period_piecewise(s, row, until, max_events, bnd, cross, record, arcs, events):
     """Advance member ``s`` from the period boundary (n, tau0) to (n + 1, tau0)."""
     dt = row[R.DT]
@@ -303,7 +324,7 @@ def _period_piecewise(s, row, until, max_events, bnd, cross, record, arcs, event
     b0 = R.DATA + 1
     a0 = R.DATA + 2 + m
     tau0 = s.tau0
-    i0 = _pw_piece(row, tau0)
+    i0 = s.piece0
     tail = tau0 > row[b0 + i0]
     nseg = m + 1 if tail else m
     zone, w, om, b1 = s.zone, s.w, s.omega, s.b1
@@ -318,7 +339,6 @@ def _period_piecewise(s, row, until, max_events, bnd, cross, record, arcs, event
     stalled = 0
     fresh = s.fresh
     s.fresh = False
-    a_prev = row[a0 + i0] if tail else row[a0 + (i0 - 1) % m]
     for j in range(nseg):
         # Segment j of the period from tau0: the rest of piece i0, the following pieces,
         # then (next period) the pieces before i0 and the head of piece i0.
@@ -341,7 +361,7 @@ def _period_piecewise(s, row, until, max_events, bnd, cross, record, arcs, event
             if v * mode < 0.0:
                 v = 0.0
             if record:
-                acc_b = _arc_params(s, xi, mode, a_prev)[3]
+                acc_b = _arc_params(s, xi, mode, row[a0 + (p - 1 if p > 0 else m - 1)])[3]   # the piece before
                 acc_a = _arc_params(s, xi, mode, a)[3]
                 _record_event(events, s, dt, _SWITCH, nn, ts, xi, v, mode, mode, acc_b, acc_a)
             if mode == 0 or v == 0.0:            # tie rule 3: re-decide at v = 0
@@ -364,7 +384,6 @@ def _period_piecewise(s, row, until, max_events, bnd, cross, record, arcs, event
                 _save(s, count, path, xi_max, dxp, lo, hi, regions)
                 return _stop(s, STOP_BUDGET, xi, v, mode, nn, ts, dt)
         fresh = False
-        a_prev = a
         while mode != 0:
             if v * mode < 0.0:                  # tie rule 4
                 v = 0.0
@@ -836,55 +855,62 @@ def _region_of_mask(regions):
 
 
 @jit
-def _cycle(s, hist, count, max_cycle, exact, swing):
-    """The shortest k-period cycle ending now, or k = 0: (k, advance, region, lo, hi).
+def _cycles(s, hist, count, max_cycle, near, swing):
+    """The shortest k-period cycles ending now, in one pass over the history:
+    (k, region, k_near, region_near), k = 0 where there is none.
 
-    ``exact``: a bit-exact repeat, of (v, mode) when all k periods stayed in one region of
-    constant friction (translation invariance, region >= 0, advance = the displacement over
-    the cycle), else of (x, v, mode) (region -1, advance 0).  Otherwise a near repeat (see
-    NEAR_ULPS, MOTION_FACTOR).  lo/hi: the extreme displacements within the cycle.
+    k: a bit-exact repeat, of (v, mode) when all k periods stayed in one region of
+    constant friction (translation invariance: region >= 0, the mass may have moved), else
+    of (x, v, mode) (region -1).  k_near (only if ``near``, and only one shorter than k): a
+    near repeat (see NEAR_ULPS, MOTION_FACTOR).  :func:`_cycle_span` gives a cycle's advance.
     ``hist`` is a ring of the last ``max_cycle`` periods, the newest at (count - 1) mod max_cycle.
     """
     tol_x = NEAR_ULPS * _EPS * (abs(s.xi) + (s.w if s.zone else 0.0))
     tol_v = NEAR_ULPS * _EPS * (abs(s.v) + swing)
     last = (count - 1) % max_cycle
     idx = last + 1
+    region = -1
+    k_near = 0
+    region_near = -1
     for k in range(1, min(count, max_cycle) + 1):
         idx -= 1                      # the period that started k periods ago
         if idx < 0:
             idx += max_cycle
         h = hist[idx]
+        # The region all of the last k periods stayed in (-1: none), kept up as k grows.
+        if k == 1:
+            region = _region_of_mask(h.regions)
+        elif _region_of_mask(h.regions) != region:
+            region = -1
         if h.mode != s.mode:
             continue
         dv = abs(h.v - s.v)
-        if exact and dv != 0.0 or not exact and dv > tol_v:
-            continue
-        region = _region_of_mask(h.regions)
-        j = idx
-        for _ in range(k - 1):
-            j += 1
-            if j >= max_cycle:
-                j -= max_cycle
-            if _region_of_mask(hist[j].regions) != region:
-                region = -1
-        if region < 0:
-            dx = abs(h.xi - s.xi)
-            if exact and dx != 0.0 or not exact and (dx > tol_x or s.path - h.path <= MOTION_FACTOR * tol_x):
-                continue
-        cum = 0.0
-        lo = 0.0
-        hi = 0.0
-        j = idx
-        for _ in range(k):
-            p = hist[j]
-            lo = min(lo, cum + p.lo)
-            hi = max(hi, cum + p.hi)
-            cum += p.dxp
-            j += 1
-            if j >= max_cycle:
-                j -= max_cycle
-        return k, (cum if region >= 0 else 0.0), region, lo, hi
-    return 0, 0.0, -1, 0.0, 0.0
+        dx = abs(h.xi - s.xi)
+        if dv == 0.0 and (region >= 0 or dx == 0.0):
+            return k, region, k_near, region_near
+        if near and k_near == 0 and dv <= tol_v and (
+                region >= 0 or dx <= tol_x and s.path - h.path > MOTION_FACTOR * tol_x):
+            k_near, region_near = k, region
+    return 0, -1, k_near, region_near
+
+
+@jit
+def _cycle_span(hist, count, max_cycle, k):
+    """(advance, lo, hi) of the last k periods: the displacement over them and the extreme
+    displacements within them."""
+    j = (count - k) % max_cycle
+    cum = 0.0
+    lo = 0.0
+    hi = 0.0
+    for _ in range(k):
+        p = hist[j]
+        lo = min(lo, cum + p.lo)
+        hi = max(hi, cum + p.hi)
+        cum += p.dxp
+        j += 1
+        if j >= max_cycle:
+            j -= max_cycle
+    return cum, lo, hi
 
 
 @jit
@@ -917,34 +943,29 @@ def _skippable(s, region, advance, lo, hi, cycles):
     return max(0, min(cycles, int(math.floor(room / abs(advance))) - 1))
 
 
-@jit
+@inlined
 def _after_period(s, hist, count, max_cycle, swing, until, total, fast_forward, v0, mode0, xi0, path0):
     """After a completed period that started in state (v0, mode0, xi0): record it, then
     decide (until='rest', 'stick') or fast-forward on a repeating period-boundary state.
     Returns (reason or -1 to go on, history count, horizon reached)."""
+    if s.n >= total:
+        return -1, count, True
+    if until == R.UNTIL_PERIODS and not fast_forward:
+        return -1, count, False             # nothing to decide, nothing to skip: no history
     h = hist[count % max_cycle]
     h.v, h.xi, h.mode, h.path = v0, xi0, mode0, path0
     h.dxp, h.lo, h.hi, h.regions = s.dxp, s.lo, s.hi, s.regions
     count += 1
-    if s.n >= total:
-        return -1, count, True
-    if until == R.UNTIL_PERIODS and not fast_forward:
-        return -1, count, False             # nothing to decide, nothing to skip
-    if until == R.UNTIL_CYCLE:
+    k, region, k_near, region_near = _cycles(s, hist, count, max_cycle, until != R.UNTIL_PERIODS, swing)
+    if until == R.UNTIL_CYCLE and k_near > 0 and (k == 0 or k_near < k):
         # The periodic motion itself: the shortest k at which the state repeats exactly or to
         # the near-repeat tolerance (an attracting orbit can settle into an ulp-level 2-cycle).
-        k, advance, region, lo, hi = _cycle(s, hist, count, max_cycle, True, swing)
-        kn, an, rn, ln, hn = _cycle(s, hist, count, max_cycle, False, swing)
-        if kn > 0 and (k == 0 or kn < k):
-            k, advance, region = kn, an, rn
-        if k > 0:
-            reason = _verdict(s, region, advance)
-            if reason >= 0:
-                s.advance, s.cycle, s.cycle_region = advance / k, k, region
-                return reason, count, False
-        return -1, count, False
-    k, advance, region, lo, hi = _cycle(s, hist, count, max_cycle, True, swing)
-    if k > 0:
+        k, region = k_near, region_near
+    elif k == 0 and (until == R.UNTIL_REST or until == R.UNTIL_STICK):
+        k, region = k_near, region_near
+    elif k > 0 and until != R.UNTIL_CYCLE:
+        advance, lo, hi = _cycle_span(hist, count, max_cycle, k)
+        advance = advance if region >= 0 else 0.0
         if until != R.UNTIL_PERIODS:
             reason = _verdict(s, region, advance)
             if reason >= 0:
@@ -960,13 +981,12 @@ def _after_period(s, hist, count, max_cycle, swing, until, total, fast_forward, 
                 s.fast_forward += cycles * k
                 count = 0
         return -1, count, False
-    if until == R.UNTIL_REST or until == R.UNTIL_STICK:
-        k, advance, region, lo, hi = _cycle(s, hist, count, max_cycle, False, swing)
-        if k > 0:
-            reason = _verdict(s, region, advance)
-            if reason >= 0:
-                s.advance, s.cycle, s.cycle_region = advance / k, k, region
-                return reason, count, False
+    if k > 0:
+        advance = _cycle_span(hist, count, max_cycle, k)[0] if region >= 0 else 0.0
+        reason = _verdict(s, region, advance)
+        if reason >= 0:
+            s.advance, s.cycle, s.cycle_region = advance / k, k, region
+            return reason, count, False
     return -1, count, False
 
 
@@ -1017,7 +1037,10 @@ def drive(s, method, row, until, total, max_events, max_cycle, acc_tol, bnd, cro
         a0 = g_ydd[0]
     else:
         grid, g_yd, g_ydd = scratch[0, :0], scratch[1, :0], scratch[2, :0]
-        a0 = _pw_acc(row, s.tau0) if method == R.EXACT_PIECEWISE else 0.0
+        a0 = 0.0
+        if method == R.EXACT_PIECEWISE:
+            s.piece0 = _pw_piece(row, s.tau0)
+            a0 = row[R.DATA + 2 + int(row[R.DATA]) + s.piece0]
     count = 0
     reason = -1
     moreau = method == R.MOREAU
@@ -1060,6 +1083,8 @@ def run_members(members, method, table, until, total, max_events, max_cycle, acc
     record array is allocated by the caller (numpy record arrays, so that the kernel also
     runs uncompiled, NUMBA_DISABLE_JIT=1)."""
     scratch = _grid_scratch(method, table)
+    table, bnd, cross, hist = borrowed(table), borrowed(bnd), borrowed(cross), borrowed(hist)
+    arcs, events, samples, steps = borrowed(arcs), borrowed(events), borrowed(samples), borrowed(steps)
     for i in range(members.shape[0]):
         s = members[i]
         drive(s, method, table[s.profile], until, total, max_events, max_cycle, acc_tol, bnd[i], cross[i], False,
@@ -1072,6 +1097,8 @@ def run_recorded(members, method, table, until, total, max_events, max_cycle, ac
     """Drive member 0 recording its arcs and events (exact) or samples (Moreau) into the
     buffers; the member's n_arcs, n_events, n_samples say how many there were (a buffer
     that was too small holds the first ones only: run again with larger buffers)."""
+    table, bnd, cross, hist = borrowed(table), borrowed(bnd), borrowed(cross), borrowed(hist)
+    arcs, events, samples, sample_steps = borrowed(arcs), borrowed(events), borrowed(samples), borrowed(sample_steps)
     s = members[0]
     drive(s, method, table[s.profile], until, total, max_events, max_cycle, acc_tol, bnd[0], cross[0], True, False,
           hist, _grid_scratch(method, table), arcs, events, samples, sample_steps, fixed_point, fp_tol, fp_max_iter)

@@ -42,7 +42,7 @@ MEMBER_DTYPE = np.dtype([
     # derived at the start of the run
     ("b1", "f8"), ("omega", "f8"), ("xs", "f8"), ("acc_tol", "f8"), ("rest_acc", "f8"),
     # working state
-    ("mode", "i1"), ("n", "i8"), ("fresh", "?"), ("events", "i8"), ("steps", "i8"),
+    ("mode", "i1"), ("n", "i8"), ("piece0", "i8"), ("fresh", "?"), ("events", "i8"), ("steps", "i8"),
     ("dxp", "f8"), ("lo", "f8"), ("hi", "f8"), ("regions", "i1"), ("stop_n", "i8"), ("stop_tau", "f8"),
     ("sticks", "i8"), ("zone_sticks", "i8"), ("h1", "f8"), ("h2", "f8"), ("nh", "i1"),
     ("first_stick_xi", "f8"), ("first_stick_n", "i8"), ("first_stick_tau", "f8"),
@@ -52,7 +52,7 @@ MEMBER_DTYPE = np.dtype([
     # outcome
     ("reason", "i1"), ("n_end", "i8"), ("tau_end", "f8"), ("contraction", "f8"), ("advance", "f8"),
     ("cycle", "i8"), ("cycle_region", "i1"), ("last_stick", "f8"),
-])
+], align=True)
 
 #: One closed-form arc of the exact solver (kinds: :mod:`selfalign.model.arcs`).  ``x``
 #: is the start position, ``acc`` x'' at the start, ``table_acc`` the table acceleration
@@ -60,23 +60,23 @@ MEMBER_DTYPE = np.dtype([
 #: LOW, ZONE or HIGH (:mod:`selfalign.solvers.outcomes`).
 ARC_DTYPE = np.dtype([("kind", "i1"), ("period", "i8"), ("tau", "f8"), ("duration", "f8"), ("x", "f8"),
                       ("v", "f8"), ("acc", "f8"), ("table_acc", "f8"), ("omega", "f8"), ("mode", "i1"),
-                      ("region", "i1")])
+                      ("region", "i1")], align=True)
 
 #: One event (:class:`selfalign.solvers.outcomes.EventKind`): time, state, the mode before
 #: and after, and x'' just before and after (saltation matrices, Sect. 6.1).
 EVENT_DTYPE = np.dtype([("kind", "i1"), ("period", "i8"), ("tau", "f8"), ("x", "f8"), ("v", "f8"),
-                        ("mode_before", "i1"), ("mode", "i1"), ("acc_before", "f8"), ("acc_after", "f8")])
+                        ("mode_before", "i1"), ("mode", "i1"), ("acc_before", "f8"), ("acc_after", "f8")], align=True)
 
 #: One dense-output sample.
-SAMPLE_DTYPE = np.dtype([("period", "i8"), ("tau", "f8"), ("x", "f8"), ("v", "f8"), ("mode", "i1")])
+SAMPLE_DTYPE = np.dtype([("period", "i8"), ("tau", "f8"), ("x", "f8"), ("v", "f8"), ("mode", "i1")], align=True)
 
 #: First crossing of a boundary (x_mu, x_mu + w, then the requested levels): the time, the
 #: velocity there and the stick events at x >= x_mu before it (period -1: never).
-CROSS_DTYPE = np.dtype([("period", "i8"), ("tau", "f8"), ("v", "f8"), ("sticks", "i8")])
+CROSS_DTYPE = np.dtype([("period", "i8"), ("tau", "f8"), ("v", "f8"), ("sticks", "i8")], align=True)
 
 #: The state at one period boundary and the period that followed (cycle detection).
 HIST_DTYPE = np.dtype([("v", "f8"), ("xi", "f8"), ("dxp", "f8"), ("lo", "f8"), ("hi", "f8"), ("path", "f8"),
-                       ("mode", "i1"), ("regions", "i1")])
+                       ("mode", "i1"), ("regions", "i1")], align=True)
 
 
 def records(dtype, size: int | tuple = 0) -> np.recarray:
