@@ -16,7 +16,8 @@ from matplotlib.colors import to_rgb
 
 from selfalign.analysis.classification import CASE_LABELS, DECISION_TREE, Decision, DecisionTree
 from selfalign.io.hdf5 import read_h5, write_h5
-from selfalign.plots.classification import CASE_COLORS, figure_08, tree_layout
+from selfalign.plots.classification import figure_08, tree_layout
+from selfalign.plots.style import CASE_COLORS
 from selfalign.stages.classification import MAP_FIELDS, gather_map, map_shard
 from selfalign.stages.common import shard_rows
 

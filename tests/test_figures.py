@@ -186,8 +186,8 @@ def build_classification_figure(name, repo, tmp_path, change=None):
 CLASSIFICATION_FIGURES = ["fig04", "fig05", "fig08", "fig10", "fig11"]
 #: Where a changed input must show up: a 1 % larger stroke (Fig. 8: swapped branches).
 CHANGE_SHOWS_IN = {"fig04": "figure.axes[0].lines[0].y", "fig05": "figure.axes[0].lines[0].x",
-                   "fig08": "figure.axes[0].texts", "fig10": "figure.axes[0].images[0].array",
-                   "fig11": "figure.axes[0].images[0].array"}
+                   "fig08": "figure.axes[0].texts", "fig10": "figure.axes[0].collections[0].array",
+                   "fig11": "figure.axes[0].collections[0].array"}
 
 
 @pytest.mark.parametrize("name", CLASSIFICATION_FIGURES)

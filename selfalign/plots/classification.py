@@ -14,11 +14,12 @@ from __future__ import annotations
 import textwrap
 
 import numpy as np
+from matplotlib import colormaps
+from matplotlib.lines import Line2D
 
 from ..analysis.classification import CASE_LABELS, DECISION_TREE, Decision
+from .style import CASE_COLORS, case_map, hatch_cells, map_mesh, setting_title
 
-#: One colour per case of Table 1, shared by Figs. 8, 10 and 11 (case 0: no profile).
-CASE_COLORS = {0: "0.82", 1: "tab:green", 2: "tab:red", 3: "tab:blue", 4: "tab:orange", 5: "tab:purple"}
 #: Mathtext of the quantities the decision tree tests, and what they mean.
 QUANTITIES = {
     "q": ("q", r"$q = 8\,\Delta y\,(1/y_2'' + 1/y_3'')\,/\,\Delta t^2$: a physical profile needs $q \leq 1$"),
@@ -29,14 +30,6 @@ QUANTITIES = {
                            r"$[0, t_1]$ iff $v_{back} \leq t_1$)"),
 }
 _OPS = {"<=": r"\leq", "<": "<", ">": ">", ">=": r"\geq"}
-
-
-def _case_legend(ax, cases, loc="upper right", extra=()):
-    from matplotlib.patches import Patch
-
-    handles = [Patch(facecolor=CASE_COLORS[c], edgecolor="k", linewidth=0.5,
-                     label=f"{c}: {CASE_LABELS[c]}" if c else "0: no physical profile") for c in cases]
-    ax.legend(handles=list(handles) + list(extra), loc=loc, fontsize="x-small", framealpha=0.9)
 
 
 # --------------------------------------------------------------------------------------
@@ -192,8 +185,8 @@ def decision_tree(fig, tree=DECISION_TREE, width: int = 24):
             style = {"boxstyle": "round,pad=0.4", "facecolor": "white", "edgecolor": "k"}
         else:
             text = f"case {attrs['case']}\n" + textwrap.fill(CASE_LABELS[attrs["case"]], width // 2)
-            style = {"boxstyle": "round4,pad=0.4", "facecolor": CASE_COLORS[attrs["case"]], "edgecolor": "k",
-                     "alpha": 0.85}
+            # The map colour itself (no transparency), so a leaf matches its cells in Figs. 10, 11, 17.
+            style = {"boxstyle": "round4,pad=0.4", "facecolor": CASE_COLORS[attrs["case"]], "edgecolor": "k"}
         boxes[node_id] = ax.text(x, -depth, text, ha="center", va="center", fontsize=8, bbox=style, zorder=3)
     for parent, child, label in tree.edges():
         (x0, d0), (x1, d1) = pos[parent], pos[child]
@@ -202,7 +195,8 @@ def decision_tree(fig, tree=DECISION_TREE, width: int = 24):
                                 "patchA": boxes[parent].get_bbox_patch(),
                                 "patchB": boxes[child].get_bbox_patch(), "shrinkA": 2, "shrinkB": 2})
         ax.text(0.5 * (x0 + x1), -0.5 * (d0 + d1), label, ha="center", va="center", fontsize=8,
-                color="tab:green" if label == "yes" else "tab:red", zorder=4,
+                # Not green / red: those are the colours of cases 1 and 2.
+                color="k" if label == "yes" else "0.4", fontweight="bold" if label == "yes" else "normal", zorder=4,
                 bbox={"boxstyle": "round,pad=0.15", "facecolor": "white", "edgecolor": "none"})
     xs = [p[0] for p in pos.values()]
     depth = max(p[1] for p in pos.values())
@@ -228,53 +222,46 @@ def figure_08(tree=DECISION_TREE):
 
 
 # --------------------------------------------------------------------------------------
-# Figs. 10 and 11
+# Figs. 10 and 11 (and panels A, B of Fig. 17)
 # --------------------------------------------------------------------------------------
 
-def _cell_extent(values) -> list[float]:
-    values = np.asarray(values, dtype=float)
-    step = np.diff(values)
-    if values.size < 2 or not np.allclose(step, step[0], rtol=1e-9, atol=0.0):
-        raise ValueError("map axes must be equally spaced (the map is drawn as an image)")
-    return [values[0] - step[0] / 2, values[-1] + step[0] / 2]
+def mean_velocity_zero_line(ax, y2, y3, vbar) -> Line2D:
+    """The line vbar = 0 (dashed) over a map; returns its legend handle."""
+    ax.contour(y2, y3, np.ma.masked_invalid(np.asarray(vbar, dtype=float).T), levels=[0.0], colors="k",
+               linestyles="--", linewidths=0.9)
+    return Line2D([], [], color="k", linestyle="--", linewidth=0.9, label=r"$\bar v = 0$")
 
 
-def objective_map(fig, y2, y3, f, case, vbar, f_max: float, title: str = ""):
-    """Figs. 10 and 11: f (eq. 11) over (y2'', y3''), limited to ``f_max`` as in the paper,
-    beside the case of Table 1; the line vbar = 0 (dashed) is drawn on both.  Arrays are
-    indexed [i_y2, i_y3]; y2'' runs along the horizontal axis.  f of eq. (11) is blind to the
-    direction of motion, so the region vbar < 0 is hatched."""
-    from matplotlib import colormaps
-    from matplotlib.colors import ListedColormap
-    from matplotlib.lines import Line2D
-    from matplotlib.patches import Patch
-
-    y2, y3, f, case, vbar = (np.asarray(a) for a in (y2, y3, f, case, vbar))
-    extent = _cell_extent(y2) + _cell_extent(y3)
-    ax_f, ax_c = fig.subplots(1, 2, sharex=True, sharey=True)
+def objective_panel(ax, y2, y3, f, vbar, f_max: float):
+    """f (eq. 11) over (y2'', y3''), values >= ``f_max`` shown as ``f_max`` (as the paper does
+    for clarity), case 0 (no physical profile, f NaN) in its case colour.  f = 1/(c vbar^2) is
+    blind to the direction of motion, so the cells with vbar < 0 are hatched and the line
+    vbar = 0 is drawn.  Returns the legend handles of the line and the hatch."""
+    f = np.asarray(f, dtype=float)
     with np.errstate(invalid="ignore"):
         shown = np.where(np.isnan(f), np.nan, np.minimum(f, f_max))
     cmap = colormaps["viridis"].with_extremes(bad=CASE_COLORS[0])
-    image = ax_f.imshow(np.ma.masked_invalid(shown.T), origin="lower", extent=extent, aspect="auto",
-                        cmap=cmap, vmin=0.0, vmax=f_max, interpolation="nearest")
-    fig.colorbar(image, ax=ax_f, label=rf"$f$ (values $\geq$ {f_max:g} shown as {f_max:g})", shrink=0.9)
+    mesh = map_mesh(ax, y2, y3, shown, cmap=cmap, vmin=0.0, vmax=f_max)
+    ax.figure.colorbar(mesh, ax=ax, label=rf"$f$ (values $\geq$ {f_max:g} shown as {f_max:g})")
+    handles = [mean_velocity_zero_line(ax, y2, y3, vbar)]
+    with np.errstate(invalid="ignore"):
+        backward = np.asarray(vbar, dtype=float) < 0.0
+    if backward.any():
+        handles.append(hatch_cells(ax, y2, y3, backward, r"$\bar v < 0$ ($f$ does not see the direction)"))
+    return handles
+
+
+def objective_map(fig, y2, y3, f, case, vbar, f_max: float, title: str = ""):
+    """Figs. 10 and 11: f (eq. 11) over (y2'', y3'') (:func:`objective_panel`) beside the case
+    of Table 1, with the line vbar = 0 on both.  Arrays are indexed [i_y2, i_y3]."""
+    ax_f, ax_c = fig.subplots(1, 2, sharex=True, sharey=True)
+    handles = objective_panel(ax_f, y2, y3, f, vbar, f_max)
     ax_f.set_title(r"objective $f = 1 / (c\,\bar v^2)$", fontsize="small")
-    case_cmap = ListedColormap([CASE_COLORS[c] for c in sorted(CASE_COLORS)])
-    ax_c.imshow(case.T.astype(float), origin="lower", extent=extent, aspect="auto", cmap=case_cmap,
-                vmin=-0.5, vmax=len(CASE_COLORS) - 0.5, interpolation="nearest")
+    case_map(ax_c, y2, y3, case)
+    mean_velocity_zero_line(ax_c, y2, y3, vbar)
     ax_c.set_title("case (Table 1)", fontsize="small")
-    backward = np.ma.masked_invalid(vbar.T)
-    extra = [Line2D([], [], color="k", linestyle="--", linewidth=0.9, label=r"$\bar v = 0$")]
-    for ax in (ax_f, ax_c):
-        ax.contour(y2, y3, backward, levels=[0.0], colors="k", linestyles="--", linewidths=0.9)
-        ax.set_xlabel("$y_2''$")
-    if backward.min() < 0.0:
-        # eq. (11) does not see the direction: hatch where the mass moves backward.
-        ax_f.contourf(y2, y3, (backward < 0.0).astype(float), levels=[0.5, 1.5], colors="none",
-                      hatches=["////"])
-        extra.append(Patch(facecolor="none", edgecolor="k", hatch="////", label=r"$\bar v < 0$"))
-    ax_f.set_ylabel("$y_3''$")
-    _case_legend(ax_c, [int(c) for c in np.unique(case)], extra=extra)
+    ax_c.label_outer()
+    ax_f.legend(handles=handles, loc="upper right", fontsize="x-small", framealpha=0.9)
     if title:
         fig.suptitle(title, fontsize="medium")
     return fig
@@ -285,6 +272,6 @@ def figure_map(result, f_max: float):
     from matplotlib.figure import Figure
 
     d, a = result["datasets"], result["attrs"]
-    title = rf"$\Delta y$ = {a['dy']:g}, $\Delta t$ = {a['dt']:g}"
     fig = Figure(figsize=(11.0, 4.8), layout="constrained")
-    return objective_map(fig, d["y2"], d["y3"], d["f"], d["case"], d["vbar"], f_max, title)
+    return objective_map(fig, d["y2"], d["y3"], d["f"], d["case"], d["vbar"], f_max,
+                         setting_title(dy=a["dy"], dt=a["dt"]))

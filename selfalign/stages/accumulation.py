@@ -107,6 +107,11 @@ def fig17_content(y2, y3, *, dt: float, dy: float, w: float, c_mu: float, n_entr
     return gather_fig17(y2, y3, [{"datasets": datasets, "attrs": attrs}])
 
 
+def stick_positions(traj) -> np.ndarray:
+    """Positions of the STICK events in the event log of ``traj``, in order."""
+    return traj.events[traj.events["kind"] == EventKind.STICK]["x"]
+
+
 def fig18_content(profile: ThreePhaseProfile, *, w: float, c_mu: float, x_mu: float = 0.0, points: int = 61,
                   cobweb_periods: int = 30):
     """Datasets and attributes of ``results/accumulation/fig18.h5`` (Fig. 18, Sect. 7.3).
@@ -126,8 +131,7 @@ def fig18_content(profile: ThreePhaseProfile, *, w: float, c_mu: float, x_mu: fl
     def cobweb(x0):
         traj = simulate(Scene(profile, zone, x0=x0, periods=cobweb_periods, record=Record(events=True)),
                         method="exact")
-        sticks = traj.events[traj.events["kind"] == EventKind.STICK]["x"]
-        return np.concatenate([[x0], sticks])
+        return np.concatenate([[x0], stick_positions(traj)])
 
     gap = 0.25 * min(x_c - x_mu, x_stick - x_c)
     datasets = {
@@ -153,8 +157,9 @@ def fig16_content(settings, *, dt: float, dy: float, w: float, c_mu: float, n_en
     One group per setting (y2'', y3'') named ``y2_<y2>_y3_<y3>``: the per-entry
     results of :func:`positioning` (``s``, ``x0``, ``status``, ``x_end``, ``overshoot``,
     ``first_stick_x``) and its scalars as attributes, plus subgroups ``entry_0`` and
-    ``entry_1`` with the exact solver's dense ``t``, ``x``, ``v`` of the two entries with
-    the lowest and the highest first stick in the zone (attribute ``index``).
+    ``entry_1`` with the exact solver's dense ``t``, ``x``, ``v`` and the positions of all
+    its sticks ``stick_x`` (from the event log, exact) of the two entries with the lowest and
+    the highest first stick in the zone (attribute ``index``).
     """
     groups = {}
     for y2, y3 in settings:
@@ -164,9 +169,11 @@ def fig16_content(settings, *, dt: float, dy: float, w: float, c_mu: float, n_en
         for k, i in enumerate((int(np.nanargmin(pos.first_stick_x)), int(np.nanargmax(pos.first_stick_x)))):
             traj = simulate(Scene(profile, pos.zone, x0=float(pos.x0[i]), v0=pos.v0, until="rest",
                                   max_periods=MAX_PERIODS,
-                                  record=Record(series=("x", "v"), samples_per_period=samples_per_period)),
+                                  record=Record(series=("x", "v"), samples_per_period=samples_per_period,
+                                                events=True)),
                             method="exact")
-            entries[f"entry_{k}"] = {"datasets": {"t": traj.t, "x": traj.x, "v": traj.v},
+            entries[f"entry_{k}"] = {"datasets": {"t": traj.t, "x": traj.x, "v": traj.v,
+                                                  "stick_x": stick_positions(traj)},
                                      "attrs": {"index": i, "status": traj.status.value, "x_end": traj.x_end}}
         scalars = ("x_mu", "x_stick_min", "overshoot_min", "overshoot_max", "dx_d", "x_d", "vbar", "v0",
                    "frac_accumulate", "frac_stop", "frac_never_stop", "frac_undecided", "accumulation", "case")

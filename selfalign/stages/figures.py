@@ -42,7 +42,7 @@ FIGURES = {
     "fig14": lambda results, setting: figure_14(*results, setting_group(*setting)),
     "fig15": lambda results, setting: figure_15(*results, setting_group(*setting)),
     "fig16": lambda results, settings: figure_16(*results, [setting_group(*s) for s in settings]),
-    "fig17": lambda results: figure_17(*results),
+    "fig17": lambda results: figure_17(*results),  # fig17.h5, fig18.h5 (its setting is marked)
     "fig18": lambda results: figure_18(*results),
     "accuracy_cost": figure_accuracy_cost,
 }
