@@ -8,6 +8,7 @@ one table of the README.  Nothing here asserts a timing.
 
 from __future__ import annotations
 
+import itertools
 import os
 import platform
 import resource
@@ -127,18 +128,21 @@ def _sweep_profiles(n: int):
     return [ThreePhaseProfile(PROFILE.dt, PROFILE.dy, a, b) for a, b in zip(y2.ravel(), y3.ravel())]
 
 
-def batched_sweep(n: int = 64, periods: int = 20, repeat: int = 3) -> list[dict]:
+def batched_sweep(n: int = 64, horizons: tuple = (20, 200), repeat: int = 3) -> list[dict]:
     """Trajectory-events per second of one batch call over an n x n sweep (one core: the
     batch is a loop over members), next to the reference loop over the same members, and
     trajectory-steps per second of the Moreau batch (h = dt/1000).  The profile table is
     built once from arrays, as a sweep does (:func:`~selfalign.solvers.exact.piecewise_rows`),
-    so that the time is the batch call's, not that of making 4096 profile objects."""
+    so that the time is the batch call's, not that of making 4096 profile objects.  The
+    exact batch runs for each number of periods in ``horizons`` (the short one shows the
+    fixed cost per member, the long one the cost per event); Moreau for the first."""
     profiles = _sweep_profiles(n)
     breaks = np.array([p.breaks for p in profiles])
     accels = np.array([p.accels for p in profiles])
     table = ProfileTable(piecewise_rows(breaks, accels), EXACT_PIECEWISE)
     rows = []
-    for name, surface in (("uniform surface", Uniform()), ("transition zone", WIDE_ZONE)):
+    for (name, surface), periods in itertools.product((("uniform surface", Uniform()),
+                                                        ("transition zone", WIDE_ZONE)), horizons):
         def engine():
             return simulate_batch(table, 0.0, surface=surface, until="periods", periods=periods,
                                   fast_forward=False)
@@ -156,6 +160,8 @@ def batched_sweep(n: int = 64, periods: int = 20, repeat: int = 3) -> list[dict]
                      "unit": "events", "count": events, "seconds": seconds, "per_s_per_core": events / seconds,
                      "reference_per_s": int(ref_events.sum()) / ref_seconds,
                      "max_end_difference": float(np.max(np.abs(result.x_end - (xi - shift))))})
+
+    periods = horizons[0]
 
     def moreau():
         return simulate_batch(profiles, 0.0, until="periods", periods=periods, method="moreau",
@@ -249,9 +255,10 @@ def run(repo: Path | None = None, tiny: bool = False, cores: int = 2) -> dict:
     """Every benchmark once; `tiny` shrinks all sizes (for tests), `repo` None skips the pipeline."""
     if tiny:
         moreau_args, single, sweep, latency, fig17 = ({"periods": 5, "tolerances": (1e-2,), "steps": (100, 1000),
-                                                       "repeat": 1}, (200, 1), (8, 2, 1), 20, (9, 8, 1))
+                                                       "repeat": 1}, (200, 1), (8, (2,), 1), 20, (9, 8, 1))
     else:
-        moreau_args, single, sweep, latency, fig17 = {"periods": 50}, (200_000, 3), (64, 20, 3), 2000, (201, 128, 2)
+        moreau_args, single, sweep, latency, fig17 = ({"periods": 50}, (200_000, 3), (64, (20, 200), 3), 2000,
+                                                       (201, 128, 2))
     report = {"machine": machine(),
               "exact_vs_moreau": exact_vs_moreau(**moreau_args),
               "single_trajectory": single_trajectory(*single),
