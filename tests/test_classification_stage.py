@@ -173,8 +173,8 @@ def test_dry_run_plans_one_job_per_shard(workdir):
     gathered into fig10.h5 and fig11.h5, checked by verify_maps, and every figure."""
     config = workdir / "workflow/config/config.yaml"
     text = config.read_text()
-    assert text.count("        shards: 4\n") == 2
-    config.write_text(text.replace("        shards: 4\n", "        shards: 3\n"))
+    assert text.count("        shards: 1\n") == 2
+    config.write_text(text.replace("        shards: 1\n", "        shards: 3\n"))
     proc = subprocess.run([sys.executable, "-m", "snakemake", "-n", "-c1", "--quiet", "rules"], cwd=workdir,
                           capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0, proc.stdout + proc.stderr
