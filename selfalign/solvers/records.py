@@ -33,7 +33,10 @@ UNTIL_CODES = {"periods": UNTIL_PERIODS, "rest": UNTIL_REST, "stick": UNTIL_STIC
 #: Profile-table header columns.
 DT, AMAX, SWING, REST_ACC, DATA = 0, 1, 2, 3, 4
 
-#: One trajectory: inputs (set before the run), working state, outcome.  Positions are
+#: One trajectory: inputs (set before the run), working state, outcome.  The working records
+#: (this and HIST_DTYPE) are aligned, so that no field straddles a cache line; the records that
+#: leave the kernel as results (arcs, events, samples, crossings) are packed, with no padding
+#: bytes that could differ between two runs or files.  Positions are
 #: relative to the member's origin (x_mu on a stop zone, else x0); see the kernel.
 MEMBER_DTYPE = np.dtype([
     # inputs
@@ -60,19 +63,19 @@ MEMBER_DTYPE = np.dtype([
 #: LOW, ZONE or HIGH (:mod:`selfalign.solvers.outcomes`).
 ARC_DTYPE = np.dtype([("kind", "i1"), ("period", "i8"), ("tau", "f8"), ("duration", "f8"), ("x", "f8"),
                       ("v", "f8"), ("acc", "f8"), ("table_acc", "f8"), ("omega", "f8"), ("mode", "i1"),
-                      ("region", "i1")], align=True)
+                      ("region", "i1")])
 
 #: One event (:class:`selfalign.solvers.outcomes.EventKind`): time, state, the mode before
 #: and after, and x'' just before and after (saltation matrices, Sect. 6.1).
 EVENT_DTYPE = np.dtype([("kind", "i1"), ("period", "i8"), ("tau", "f8"), ("x", "f8"), ("v", "f8"),
-                        ("mode_before", "i1"), ("mode", "i1"), ("acc_before", "f8"), ("acc_after", "f8")], align=True)
+                        ("mode_before", "i1"), ("mode", "i1"), ("acc_before", "f8"), ("acc_after", "f8")])
 
 #: One dense-output sample.
-SAMPLE_DTYPE = np.dtype([("period", "i8"), ("tau", "f8"), ("x", "f8"), ("v", "f8"), ("mode", "i1")], align=True)
+SAMPLE_DTYPE = np.dtype([("period", "i8"), ("tau", "f8"), ("x", "f8"), ("v", "f8"), ("mode", "i1")])
 
 #: First crossing of a boundary (x_mu, x_mu + w, then the requested levels): the time, the
 #: velocity there and the stick events at x >= x_mu before it (period -1: never).
-CROSS_DTYPE = np.dtype([("period", "i8"), ("tau", "f8"), ("v", "f8"), ("sticks", "i8")], align=True)
+CROSS_DTYPE = np.dtype([("period", "i8"), ("tau", "f8"), ("v", "f8"), ("sticks", "i8")])
 
 #: The state at one period boundary and the period that followed (cycle detection).
 HIST_DTYPE = np.dtype([("v", "f8"), ("xi", "f8"), ("dxp", "f8"), ("lo", "f8"), ("hi", "f8"), ("path", "f8"),
