@@ -15,33 +15,17 @@ from pathlib import Path
 
 import numpy as np
 
-from ..io.hdf5 import atomic_path
+from ..io.hdf5 import atomic_write
+from ..plots.encode import figure_bytes
 
 #: Resolution of figures written by :func:`save_figure` unless the workflow config says otherwise.
 DEFAULT_DPI = 150
 
-#: Figure formats :func:`save_figure` writes -> metadata left out (software version, dates),
-#: so that the same drawing gives the same file.
-FIGURE_METADATA = {
-    "png": {"Software": None},
-    "pdf": {"Creator": None, "Producer": None, "CreationDate": None},
-    "svg": {"Creator": None, "Date": None},
-}
-
-
 def save_figure(fig, path, dpi: int = DEFAULT_DPI) -> Path:
-    """Write ``fig`` atomically in the format of the suffix of ``path`` (png, pdf or svg; ``dpi``
-    sets the resolution of PNG and of raster parts of the vector formats).  Versions and
-    dates are left out of the metadata, and SVG ids are salted with a constant, so that the
-    same drawing gives the same bytes."""
-    from matplotlib import rc_context
-
-    fmt = Path(path).suffix.lstrip(".").lower()
-    if fmt not in FIGURE_METADATA:
-        raise ValueError(f"figure format {fmt!r} of {path} is not one of {', '.join(FIGURE_METADATA)}")
-    with atomic_path(path) as tmp, rc_context({"svg.hashsalt": "selfalign"}):
-        fig.savefig(tmp, format=fmt, dpi=dpi, metadata=FIGURE_METADATA[fmt])
-    return Path(path)
+    """Write ``fig`` atomically in the format of the suffix of ``path`` (png, pdf or svg;
+    :func:`selfalign.plots.encode.figure_bytes`: the same drawing gives the same bytes)."""
+    data = figure_bytes(fig, Path(path).suffix.lstrip(".").lower(), dpi)
+    return atomic_write(path, lambda tmp: Path(tmp).write_bytes(data))
 
 
 @contextmanager
