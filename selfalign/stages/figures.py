@@ -6,7 +6,9 @@ function that draws it from the results it is given, in
 (``workflow/rules/figures.smk``), plus the options the config gives it.  One
 workflow rule per figure calls :func:`draw`; the plot functions in
 :mod:`selfalign.plots` do the drawing, and what a figure needs computed on top of
-its results (the case of each Fig. 9 run) is computed here, not in the plot.
+its results (the case of each Fig. 9 run, the displacement of the mass relative to the
+table for Fig. 6) is computed here, not in the plot; Fig. 15 gets the lengths of
+Sect. 7.1 drawn onto it (:mod:`selfalign.plots.annotate`).
 """
 
 from __future__ import annotations
