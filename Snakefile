@@ -34,6 +34,7 @@ include: "workflow/rules/convergence.smk"
 include: "workflow/rules/classification.smk"
 include: "workflow/rules/accumulation.smk"
 include: "workflow/rules/figures.smk"
+include: "workflow/rules/report.smk"
 
 
 report: "workflow/report/workflow.rst"

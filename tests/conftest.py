@@ -5,6 +5,7 @@ and the committed figures/*.png) from the current code instead of comparing
 against them; use it only after an intended change of a figure and review the diff.
 """
 
+import os
 import shutil
 import subprocess
 import sys
@@ -46,7 +47,9 @@ def workdir(repo, tmp_path):
 
 
 def run_snakemake(workdir, *args):
-    """Run snakemake in ``workdir``; return (exit code, stdout + stderr)."""
+    """Run snakemake in ``workdir`` with the package of this checkout (also where the installed
+    one is another worktree's); return (exit code, stdout + stderr)."""
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(filter(None, [str(REPO), os.environ.get("PYTHONPATH")]))}
     proc = subprocess.run([*SNAKEMAKE, *args], cwd=workdir, capture_output=True,
-                          text=True, timeout=300)
+                          text=True, timeout=300, env=env)
     return proc.returncode, proc.stdout + proc.stderr

@@ -215,14 +215,14 @@ def test_classification_figure_comparison_catches_a_change(name, repo, tmp_path)
 
 def build_fig06(repo, tmp_path, dy_factor=1.0):
     """Fig. 6 from fig06_results with the workflow config's settings (the full optimisation)."""
-    from selfalign.plots.classification import figure_06
     from selfalign.stages.classification import fig06_results
+    from selfalign.stages.figures import draw
 
     p = classification_config(repo)[0]["fourier"]
     datasets, attrs, _ = fig06_results(p["dt"], p["dy"] * dy_factor, p["yd_max"], p["ydd_max"], order=p["order"],
                                        max_iter=p["max_iter"])
     h5 = write_h5(tmp_path / "fig06.h5", datasets, attrs)
-    return figure_06(read_h5(h5))
+    return draw("fig06", [read_h5(h5)])
 
 
 @pytest.fixture(scope="module")

@@ -103,3 +103,53 @@ def test_rest_scene_samples_one_period(repo):
     scene = load_scene(repo / "workflow/scenes/stop_zone.yaml")
     d, a = profile_samples(scene)
     assert a["periods"] == 1 and d["t"][-1] == pytest.approx(scene.profile.dt, rel=1e-15)
+
+
+def set_figure_formats(workdir, formats: str):
+    config = workdir / "workflow/config/config.yaml"
+    text = config.read_text()
+    assert "formats: [png]" in text
+    config.write_text(text.replace("formats: [png]", f"formats: {formats}"))
+
+
+def test_figure_formats_plan_one_file_per_format(workdir):
+    """`figures.formats` adds PDF and SVG files of every figure; all come from one plot job."""
+    set_figure_formats(workdir, "[png, pdf, svg]")
+    rc, out = snakemake(workdir, "-n", "-c1", "figures/fig07.svg")
+    assert rc == 0, out
+    for fmt in ("png", "pdf", "svg"):
+        assert f"figures/fig07.{fmt}" in out, out
+    assert out.count("rule plot_fig07:") == 1, out
+
+
+def test_unknown_figure_format_is_rejected(workdir):
+    set_figure_formats(workdir, "[png, jpg]")
+    rc, out = snakemake(workdir, "-n", "-c1")
+    assert rc != 0
+    assert "invalid config" in out and "formats" in out, out
+
+
+@pytest.mark.parametrize("fmt, magic", [("png", b"\x89PNG"), ("pdf", b"%PDF"), ("svg", b"<?xml")])
+def test_figure_files_are_reproducible_in_every_format(tmp_path, fmt, magic):
+    """save_figure writes the format of the suffix, and the same drawing twice gives the same bytes
+    (no dates or versions in the metadata, constant SVG ids)."""
+    from matplotlib.figure import Figure
+
+    from selfalign.stages.common import save_figure
+
+    def drawing():
+        fig = Figure(figsize=(2, 2))
+        fig.subplots().plot([0, 1], [1, 0], label="line")
+        return fig
+
+    first, second = (save_figure(drawing(), tmp_path / f"{i}.{fmt}", dpi=50).read_bytes() for i in range(2))
+    assert first.startswith(magic) and first == second
+
+
+def test_save_figure_rejects_an_unknown_format(tmp_path):
+    from matplotlib.figure import Figure
+
+    from selfalign.stages.common import save_figure
+
+    with pytest.raises(ValueError, match="jpg"):
+        save_figure(Figure(), tmp_path / "f.jpg")

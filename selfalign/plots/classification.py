@@ -50,7 +50,9 @@ def objective_sweep(fig, x, f_exact, f_moreau, xlabel: str, title: str = "", mor
     with np.errstate(divide="ignore", invalid="ignore"):
         rel = np.abs(f_moreau / f_exact - 1.0)
     ax_d.loglog(x, rel, linestyle="none", marker="o", markersize=3, color="tab:blue")
-    ax_d.set_ylabel("|rel. diff.|")
+    ax_d.set_title(rf"relative difference of $f$: {moreau_label} ($f_{{\mathrm{{ts}}}}$) against the exact solver "
+                   rf"($f_{{\mathrm{{exact}}}}$)", fontsize="small")
+    ax_d.set_ylabel(r"$|f_{\mathrm{ts}} / f_{\mathrm{exact}} - 1|$")
     ax_d.set_xlabel(xlabel)
     ax_d.grid(True, which="major", linewidth=0.4, alpha=0.5)
     if title:
@@ -82,11 +84,23 @@ def figure_05(result):
 # Fig. 6
 # --------------------------------------------------------------------------------------
 
+#: Shading of the intervals in which the mass slides back (x' < 0), Fig. 6.
+SLIDING_BACK = {"color": "tab:red", "alpha": 0.15, "linewidth": 0}
+
+
 def fourier_optimum(fig, d: dict, a: dict):
     """Fig. 6: optimised Fourier profile against its start and the best three-phase profile
-    (y, y', y'' over one period, left; the actuator bounds dash-dotted), the steady relative
-    velocity x' of the mass under both (right, top and middle: stick where x' = 0, sliding
-    back where x' < 0) and f per optimiser iteration (right, bottom)."""
+    (y, y', y'' over one period, left; the actuator bounds dash-dotted), the steady
+    displacement x of the mass relative to the table beside the table's y under both (right,
+    top and middle: x flat where the mass sticks, falling where it slides back, x' < 0,
+    shaded) and f per optimiser iteration (right, bottom).
+
+    ``d`` holds the datasets of ``results/classification/fig06.h5`` plus ``<name>_motion_x``
+    (x of the mass relative to the table, for ``fourier`` and ``three_phase``); ``a`` its
+    attributes."""
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
     axes = fig.subplots(3, 2, gridspec_kw={"width_ratios": [1.15, 1]})
     styles = (("fourier", "optimised Fourier", {"color": "k"}),
               ("start", "start (polynomial, 12 harmonics)", {"color": "0.55", "linestyle": ":"}),
@@ -96,17 +110,25 @@ def fourier_optimum(fig, d: dict, a: dict):
         for name, label, style in styles:
             ax.plot(d["t"], d[f"{name}_{key}"], label=label, linewidth=1.0, **style)
         ax.set_ylabel(ylabel)
+    bound_style = {"color": "0.3", "linewidth": 0.6, "linestyle": "-."}
     for ax, bound in ((axes[1, 0], a["yd_max"]), (axes[2, 0], a["ydd_max"])):
         for sign in (1, -1):
-            ax.axhline(sign * bound, color="0.3", linewidth=0.6, linestyle="-.")
-    axes[0, 0].legend(loc="lower left", fontsize="x-small")
+            ax.axhline(sign * bound, **bound_style)
+    bounds = Line2D([], [], **bound_style, label=r"actuator bounds $\pm y'_{\max}$, $\pm y''_{\max}$")
+    axes[0, 0].legend(handles=axes[0, 0].get_lines() + [bounds], loc="lower left", bbox_to_anchor=(0.0, 1.02),
+                      ncols=2, fontsize="x-small", frameon=False, borderaxespad=0.0)
     axes[2, 0].set_xlabel("$t$")
     for ax, name, title in ((axes[0, 1], "fourier", "optimised Fourier"),
                             (axes[1, 1], "three_phase", "best three-phase")):
-        ax.plot(d[f"{name}_motion_t"], d[f"{name}_motion_v"], color="k", linewidth=1.0)
-        ax.axhline(0.0, color="0.5", linewidth=0.6)
-        ax.set_ylabel("$x'$")
-        ax.set_title(f"steady motion of the mass relative to the table, {title}", fontsize="small")
+        t, v = d[f"{name}_motion_t"], d[f"{name}_motion_v"]
+        ax.fill_between(t, 0.0, 1.0, where=v < 0.0, transform=ax.get_xaxis_transform(), **SLIDING_BACK)
+        ax.plot(t, d[f"{name}_motion_y"], color="0.55", linewidth=1.0, label="$y$ (table)")
+        ax.plot(t, d[f"{name}_motion_x"], color="k", linewidth=1.2, label="$x$ (mass, relative to the table)")
+        ax.set_ylabel("displacement")
+        ax.set_title(f"steady motion under the {title} profile", fontsize="small")
+        ax.set_xlim(t[0], t[-1])
+        ax.legend(handles=ax.get_lines() + [Patch(**SLIDING_BACK, label="mass slides back ($x' < 0$)")],
+                  loc="upper left", fontsize="x-small", frameon=False)
     axes[1, 1].set_xlabel("$t$")
     hist = axes[2, 1]
     hist.semilogy(np.arange(d["history_f"].size), d["history_f"], color="k", marker=".", markersize=3,
@@ -122,12 +144,15 @@ def fourier_optimum(fig, d: dict, a: dict):
     return fig
 
 
-def figure_06(result):
-    """Fig. 6 from results/classification/fig06.h5."""
+def figure_06(result, mass_displacement: dict):
+    """Fig. 6 from results/classification/fig06.h5 and ``mass_displacement``: profile name
+    (``fourier``, ``three_phase``) -> x of the mass relative to the table at ``<name>_motion_t``."""
     from matplotlib.figure import Figure
 
+    datasets = dict(result["datasets"])
+    datasets.update({f"{name}_motion_x": x for name, x in mass_displacement.items()})
     fig = Figure(figsize=(11.0, 7.6), layout="constrained")
-    return fourier_optimum(fig, result["datasets"], result["attrs"])
+    return fourier_optimum(fig, datasets, result["attrs"])
 
 
 # --------------------------------------------------------------------------------------

@@ -25,6 +25,8 @@ METHOD_STYLE = {
 }
 #: Colour of the table's quantities, drawn behind the object's.
 TABLE_COLOR = "0.55"
+#: The friction bounds +-1 (Figs. 9, 12).
+FRICTION_BOUND_STYLE = {"color": "tab:red", "linestyle": "--", "linewidth": 0.8}
 
 
 def _profile_text(scene: Scene) -> str:
@@ -81,27 +83,44 @@ def figure_03(result: dict):
 # ---------------------------------------------------------------------------------------
 
 def case_histories(fig, panels: list[dict]):
-    """Fig. 9: one panel per case, x' (black, left axis) and y'' (grey steps, right axis).
+    """Fig. 9: one pair of axes per case sharing the time axis, x' above (black) and the
+    table's y'' below (grey steps, with the friction bounds y'' = +-1 dashed: the mass can
+    stick only while |y''| <= 1).
 
-    Each entry of ``panels`` holds ``t``, ``v``, ``ydd`` and ``title``; ``ydd``
-    is drawn as a step function, so the samples must include the switch times.
+    Separate axes keep the stick segments (x' = 0) and the phases of y'' apart.  Each entry
+    of ``panels`` holds ``t``, ``v``, ``ydd`` and ``title``; ``ydd`` is drawn as a step
+    function, so the samples must include the switch times.
     """
-    axes = fig.subplots(len(panels), 1)
-    for ax, panel in zip(np.atleast_1d(axes), panels):
+    from matplotlib.lines import Line2D
+
+    outer = fig.add_gridspec(len(panels), 1)
+    for i, panel in enumerate(panels):
         t, v, ydd = (np.asarray(panel[k], dtype=float) for k in ("t", "v", "ydd"))
-        acc = ax.twinx()
-        acc.plot(t, ydd, color=TABLE_COLOR, linewidth=0.8, drawstyle="steps-post", label="$y''$")
-        acc.set_ylabel("$y''$", color=TABLE_COLOR)
-        acc.tick_params(axis="y", colors=TABLE_COLOR)
-        ax.plot(t, v, color="k", label="$x'$")
-        ax.axhline(0.0, color="0.4", linewidth=0.8)
-        ax.set_zorder(acc.get_zorder() + 1)  # x' in front of the table's y''
-        ax.patch.set_visible(False)
-        ax.set_ylabel("$x'$")
-        ax.set_title(panel["title"], fontsize="medium", loc="left")
-        ax.set_xlim(t[0], t[-1])
-    np.atleast_1d(axes)[-1].set_xlabel("$t$")
+        inner = outer[i].subgridspec(2, 1, height_ratios=[3, 2], hspace=0.0)
+        ax_v = fig.add_subplot(inner[0])
+        ax_a = fig.add_subplot(inner[1], sharex=ax_v)
+        ax_v.plot(t, v, color="k", label="$x'$")
+        ax_v.axhline(0.0, color="0.4", linewidth=0.8)
+        ax_v.set_ylabel("$x'$")
+        ax_v.set_title(panel["title"], fontsize="medium", loc="left")
+        ax_v.tick_params(labelbottom=False)
+        ax_a.plot(t, ydd, color=TABLE_COLOR, drawstyle="steps-post", label="$y''$")
+        friction_bounds(ax_a)
+        ax_a.set_ylabel("$y''$")
+        ax_v.set_xlim(t[0], t[-1])
+        if i == len(panels) - 1:
+            ax_a.set_xlabel("$t$")
+    handles = [Line2D([], [], color="k", label="$x'$: velocity of the mass relative to the table"),
+               Line2D([], [], color=TABLE_COLOR, label="$y''$: table acceleration"),
+               Line2D([], [], **FRICTION_BOUND_STYLE, label=r"$y'' = \pm 1$: stick possible only between")]
+    fig.legend(handles=handles, loc="outside lower center", ncols=2, frameon=False, fontsize="small")
     return fig
+
+
+def friction_bounds(ax):
+    """The friction bounds +-1 (eq. 5: |F_f| <= 1 in units of the maximum friction force) as
+    dashed lines; returns them."""
+    return [ax.axhline(bound, **FRICTION_BOUND_STYLE) for bound in (-1.0, 1.0)]
 
 
 def last_periods(traj, dt: float, periods: int) -> np.ndarray:
@@ -126,7 +145,7 @@ def figure_09(results: list[dict], cases: list[int], labels: dict[int, str], per
         keep = last_periods(traj, scene.profile.dt, periods)
         panels.append({"t": traj.t[keep], "v": traj.v[keep], "ydd": traj.ydd[keep],
                        "title": f"Case {case}: {labels[case]}   ({_profile_text(scene)})"})
-    fig = Figure(figsize=(7.2, 2.0 * len(panels) + 0.6), layout="constrained")
+    fig = Figure(figsize=(7.2, 2.4 * len(panels) + 0.8), layout="constrained")
     return case_histories(fig, panels)
 
 
@@ -137,26 +156,27 @@ def figure_09(results: list[dict], cases: list[int], labels: dict[int, str], per
 def case1_period(fig, t, ydd, friction, v, x, marks: dict[str, float], title: str = ""):
     """Fig. 12: y'' and the friction force, x' and x over one period, with the times of ``marks``.
 
-    The friction force F_f = -(x'' + y'') lies in Sign(x') (eq. 5): +-1 while the
-    mass slips, |F_f| <= 1 while it sticks.
+    Dimensionless, y'' is the table's inertial force on the mass and F_f = -(x'' + y'') the
+    friction force, both in units of the maximum friction force mu m g; F_f lies in
+    Sign(x') (eq. 5): +1 in forward slip, -1 in backward slip, |F_f| <= 1 while the mass
+    sticks (the dashed friction bounds).
     """
     t, ydd, friction, v, x = (np.asarray(a, dtype=float) for a in (t, ydd, friction, v, x))
-    ax_a, ax_v, ax_x = fig.subplots(3, 1, sharex=True)
+    ax_f, ax_v, ax_x = fig.subplots(3, 1, sharex=True)
     if title:
         fig.suptitle(title)
-    ax_a.plot(t, ydd, color=TABLE_COLOR, drawstyle="steps-post", label="$y''$ (table)")
-    ax_a.plot(t, friction, color="k", drawstyle="steps-post", label="$F_f$ (friction force)")
-    for bound in (-1.0, 1.0):
-        ax_a.axhline(bound, color="0.4", linestyle="--", linewidth=0.8)
-    ax_a.set_ylabel("acceleration")
-    ax_a.legend(loc="lower left", fontsize="small", frameon=False)
+    ax_f.plot(t, ydd, color=TABLE_COLOR, drawstyle="steps-post", label="$y''$ (table)")
+    ax_f.plot(t, friction, color="k", drawstyle="steps-post", label="$F_f$ (friction force)")
+    friction_bounds(ax_f)[0].set_label(r"friction bounds $F_f = \pm 1$")
+    ax_f.set_ylabel(r"force / $\mu m g$")
+    ax_f.legend(loc="lower right", fontsize="small", frameon=False)
     ax_v.plot(t, v, color="k", label="$x'$")
     ax_v.axhline(0.0, color="0.4", linewidth=0.8)
     ax_v.set_ylabel("$x'$")
     ax_x.plot(t, x, color="k", label="$x$")
     ax_x.set_ylabel("$x$")
     ax_x.set_xlabel("$t$")
-    mark_times((ax_a, ax_v, ax_x), marks)
+    mark_times((ax_f, ax_v, ax_x), marks)
     ax_x.set_xlim(t[0], t[-1])
     return fig
 
@@ -194,32 +214,68 @@ ERROR_KINDS = {
     "err_end_position": ("end-position error", "rounding_level_position"),
     "err_vbar": (r"error of $\bar v$ (last period)", "rounding_level_vbar"),
 }
+#: Per method: the dataset that sets each run's accuracy, the colour map of its markers (darker
+#: = finer: more steps, smaller rtol) and the label of its colour bar.
+RUN_SETTING = {
+    "moreau": ("steps_per_period", "Blues", r"Moreau: steps per period $n = \Delta t / h$"),
+    "ivp": ("rtol", "Oranges_r", "solve_ivp: rtol"),
+}
+
+
+def _setting_scale(setting: str, cmap: str, values):
+    """Log colour norm over a method's settings and the colour map without its palest third
+    (the palest third of a sequential map is hard to see on white)."""
+    from matplotlib import colormaps
+    from matplotlib.colors import ListedColormap, LogNorm
+
+    part = (0.0, 0.7) if cmap.endswith("_r") else (0.3, 1.0)
+    colors = ListedColormap(colormaps[cmap](np.linspace(*part, 256)), name=f"{setting}_{cmap}")
+    return LogNorm(float(np.min(values)), float(np.max(values))), colors
+
+
+def slope_guide(ax, cpu_time, error, label: str):
+    """A dotted line of slope -1 in log-log (error proportional to 1 / CPU time: first order,
+    since the cost grows as 1/h) through the middle of the given runs, over their CPU times."""
+    cpu_time, error = np.asarray(cpu_time, dtype=float), np.asarray(error, dtype=float)
+    mid = cpu_time.size // 2
+    span = np.array([cpu_time.min(), cpu_time.max()])
+    return ax.plot(span, error[mid] * cpu_time[mid] / span, color="0.6", linewidth=0.8, label=label)[0]
 
 
 def work_precision(fig, studies: list[dict]):
     """Error against CPU time, log-log: one column per scene, one row per error kind.
 
     Each study holds ``title``, ``target_error``, ``moreau_order`` and per method
-    (``moreau``, ``ivp``) the arrays ``cpu_time``, ``err_end_position``, ``err_vbar``,
-    plus ``exact_cpu_time`` (drawn as a vertical line: it is the reference) and
+    (``moreau``, ``ivp``) the arrays ``cpu_time``, ``err_end_position``, ``err_vbar`` and
+    the setting of each run (``steps_per_period``, ``rtol``), drawn as the colour of its
+    marker, plus ``exact_cpu_time`` (drawn as a vertical line: it is the reference) and
     the rounding levels of both errors: errors below them are drawn at them
-    (an exact zero has no logarithm), marked by a dotted line.
+    (an exact zero has no logarithm), marked by a dotted line.  A slope -1 guide
+    (first order) runs through the Moreau points.
     """
     axes = fig.subplots(len(ERROR_KINDS), len(studies), squeeze=False, sharex="col")
+    scales = {}
     for col, study in enumerate(studies):
         for row, (kind, (label, floor_key)) in enumerate(ERROR_KINDS.items()):
             ax = axes[row, col]
             floor = study[floor_key]
-            for method in ("moreau", "ivp"):
+            for method, (setting, cmap, _) in RUN_SETTING.items():
                 data = study[method]
-                ax.plot(data["cpu_time"], np.maximum(data[kind], floor), linestyle="-",
-                        markersize=4, **METHOD_STYLE[method])
+                style = METHOD_STYLE[method]
+                shown = np.maximum(data[kind], floor)
+                ax.plot(data["cpu_time"], shown, color=style["color"], linewidth=1.0, label=style["label"])
+                norm, colors = _setting_scale(setting, cmap, data[setting])
+                scales[method] = ax.scatter(data["cpu_time"], shown, c=data[setting], cmap=colors, norm=norm,
+                                            marker=style["marker"], s=22, edgecolors=style["color"],
+                                            linewidths=0.6, zorder=3)
+            slope_guide(ax, study["moreau"]["cpu_time"], study["moreau"][kind], "slope $-1$ (first order)")
             ax.axvline(study["exact_cpu_time"], linestyle="--", **METHOD_STYLE["exact"])
-            ax.axhline(floor, color="0.6", linestyle=":", linewidth=1.0, label="rounding level")
+            ax.axhline(floor, color="0.6", linestyle=":", linewidth=1.0,
+                       label="rounding level: smaller errors are drawn on it")
             if kind == "err_end_position":
                 ax.axhline(study["target_error"], color="tab:red", linestyle="-.", linewidth=0.8,
                            label=f"target error {study['target_error']:g}")
-                ax.set_title(study["title"], fontsize="medium")
+                ax.set_title(study["title"], fontsize="small")
                 ax.text(0.97, 0.97, f"Moreau order {study['moreau_order']:.2f}", transform=ax.transAxes,
                         ha="right", va="top", fontsize="small")
             ax.set_xscale("log")
@@ -230,7 +286,17 @@ def work_precision(fig, studies: list[dict]):
                 ax.set_xlabel("CPU time [s]")
     handles, names = axes[0, 0].get_legend_handles_labels()
     fig.legend(handles, names, loc="outside lower center", ncols=3, frameon=False, fontsize="small")
+    for row, (method, (_, _, label)) in enumerate(RUN_SETTING.items()):
+        fig.colorbar(scales[method], ax=axes[row, :], location="right", aspect=25, pad=0.01, label=label)
     return fig
+
+
+def _study_title(scene: Scene) -> str:
+    """What a work-precision study simulates, in physical terms (two lines)."""
+    surface = scene.surface.params()
+    where = ("uniform friction" if surface["kind"] == "uniform" else
+             rf"stop zone at $x_\mu$ = {surface['x_mu']:g}, $c_\mu$ = {surface['c_mu']:g}")
+    return f"{where}, {scene.horizon_periods} periods from rest\n{_profile_text(scene)}"
 
 
 def figure_accuracy_cost(results: list[dict]):
@@ -241,12 +307,12 @@ def figure_accuracy_cost(results: list[dict]):
     for result in results:
         a, g = result["attrs"], result["groups"]
         studies.append({
-            "title": f"{a['scene_name']} ({scene_from_result(result).horizon_periods} periods)",
+            "title": _study_title(scene_from_result(result)),
             "target_error": a["target_error"], "moreau_order": a["moreau_order"],
             "rounding_level_position": a["rounding_level_position"],
             "rounding_level_vbar": a["rounding_level_vbar"],
             "moreau": g["moreau"]["datasets"], "ivp": g["ivp"]["datasets"],
             "exact_cpu_time": g["exact"]["attrs"]["cpu_time"],
         })
-    fig = Figure(figsize=(4.0 * len(studies) + 0.8, 6.4), layout="constrained")
+    fig = Figure(figsize=(4.4 * len(studies) + 0.8, 7.6), layout="constrained")
     return work_precision(fig, studies)

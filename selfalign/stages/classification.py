@@ -119,7 +119,7 @@ def fig06_results(dt: float, dy: float, yd_max: float, ydd_max: float, *, order:
         data.update({f"{name}_y": y - y[:-1].mean(), f"{name}_yd": profile.velocity(t),
                      f"{name}_ydd": profile.acceleration(t)})
     steady_best = exact_steady_state(best, max_periods=4 * OPTIMISER_PERIODS, aperiodic="average")
-    for name, profile, v0 in (("fourier", best, float(steady_best.v0[0])), ("three_phase", three, float(ss3.v0))):
+    for name, profile, v0 in zip(FIG06_MOTIONS, (best, three), (float(steady_best.v0[0]), float(ss3.v0))):
         for key, values in steady_motion(profile, v0, motion_periods, samples_per_period // 4).items():
             data[f"{name}_motion_{key}"] = values
     attrs = {f"fourier_{k}": v for k, v in opt.settings.items() if k not in ("dt", "dy", "yd_max", "ydd_max")}
@@ -131,6 +131,18 @@ def fig06_results(dt: float, dy: float, yd_max: float, ydd_max: float, *, order:
                  three_phase_peak_velocity=float(np.max(np.abs(three.piece_velocity))),
                  paper_f=PAPER_FIG6_F, paper_vbar=float(1.0 / math.sqrt(OBJECTIVE_SCALE * PAPER_FIG6_F)))
     return data, attrs, opt
+
+
+#: The profiles whose steady motion of the mass ``fig06.h5`` holds.
+FIG06_MOTIONS = ("fourier", "three_phase")
+
+
+def fig06_mass_displacement(result: dict) -> dict:
+    """x of the mass relative to the table (the paper's x, which falls where the mass slides
+    back) over the steady motions of ``fig06.h5`` (:func:`fig06_results` layout): the
+    recorded absolute displacement minus the table's, ``<name>_motion_x_abs - <name>_motion_y``."""
+    d = result["datasets"]
+    return {name: d[f"{name}_motion_x_abs"] - d[f"{name}_motion_y"] for name in FIG06_MOTIONS}
 
 
 def polynomial_sweep(dt, dy, *, forward_fraction: float = 0.8, steps_per_period: int = 1000,

@@ -15,18 +15,17 @@ from pathlib import Path
 
 import numpy as np
 
-from ..io.hdf5 import atomic_path
+from ..io.hdf5 import atomic_write
+from ..plots.encode import figure_bytes
 
 #: Resolution of figures written by :func:`save_figure` unless the workflow config says otherwise.
 DEFAULT_DPI = 150
 
-
 def save_figure(fig, path, dpi: int = DEFAULT_DPI) -> Path:
-    """Write ``fig`` as PNG atomically; the matplotlib version is left out of the metadata
-    so that identical pixels give identical files."""
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, format="png", dpi=dpi, metadata={"Software": None})
-    return Path(path)
+    """Write ``fig`` atomically in the format of the suffix of ``path`` (png, pdf or svg;
+    :func:`selfalign.plots.encode.figure_bytes`: the same drawing gives the same bytes)."""
+    data = figure_bytes(fig, Path(path).suffix.lstrip(".").lower(), dpi)
+    return atomic_write(path, lambda tmp: Path(tmp).write_bytes(data))
 
 
 @contextmanager

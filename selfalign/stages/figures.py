@@ -6,7 +6,9 @@ function that draws it from the results it is given, in
 (``workflow/rules/figures.smk``), plus the options the config gives it.  One
 workflow rule per figure calls :func:`draw`; the plot functions in
 :mod:`selfalign.plots` do the drawing, and what a figure needs computed on top of
-its results (the case of each Fig. 9 run) is computed here, not in the plot.
+its results (the case of each Fig. 9 run, the displacement of the mass relative to the
+table for Fig. 6) is computed here, not in the plot; Fig. 15 gets the lengths of
+Sect. 7.1 drawn onto it (:mod:`selfalign.plots.annotate`).
 """
 
 from __future__ import annotations
@@ -14,11 +16,13 @@ from __future__ import annotations
 from ..analysis.classification import CASE_LABELS, classify
 from ..io.simulation_result import scene_from_result
 from ..plots.accumulation import figure_14, figure_15, figure_16, figure_17, figure_18
+from ..plots.annotate import overshoot_dimensions
 from ..plots.classification import figure_04, figure_05, figure_06, figure_08, figure_map
 from ..plots.profile import figure_07
 from ..plots.simulation import figure_03, figure_09, figure_12, figure_accuracy_cost
 from ..plots.stability import figure_13
 from .accumulation import setting_group
+from .classification import fig06_mass_displacement
 
 
 def _fig09(results, periods):
@@ -26,12 +30,21 @@ def _fig09(results, periods):
     return figure_09(results, cases, CASE_LABELS, periods=periods)
 
 
+def _fig15(results, setting):
+    """Fig. 15 with the lengths of Sect. 7.1 (overshoots, Delta x_d) drawn on it."""
+    (result,) = results
+    key = setting_group(*setting)
+    fig = figure_15(result, key)
+    a = result["groups"][key]["attrs"]
+    return overshoot_dimensions(fig.axes[0], a["x_mu"], a["overshoot_min"], a["overshoot_max"], a["dx_d"])
+
+
 #: name -> draw(results, **options): the results are the figure's inputs in the workflow's order.
 FIGURES = {
     "fig03": lambda results: figure_03(*results),
     "fig04": lambda results: figure_04(*results),
     "fig05": lambda results: figure_05(*results),
-    "fig06": lambda results: figure_06(*results),
+    "fig06": lambda results: figure_06(*results, fig06_mass_displacement(*results)),
     "fig07": lambda results: figure_07(*results),
     "fig08": lambda results: figure_08(),
     "fig09": _fig09,
@@ -40,7 +53,7 @@ FIGURES = {
     "fig12": lambda results: figure_12(*results),
     "fig13": lambda results: figure_13(*results),
     "fig14": lambda results, setting: figure_14(*results, setting_group(*setting)),
-    "fig15": lambda results, setting: figure_15(*results, setting_group(*setting)),
+    "fig15": _fig15,
     "fig16": lambda results, settings: figure_16(*results, [setting_group(*s) for s in settings]),
     "fig17": lambda results: figure_17(*results),  # fig17.h5, fig18.h5 (its setting is marked)
     "fig18": lambda results: figure_18(*results),

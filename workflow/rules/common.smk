@@ -50,8 +50,9 @@ def benchmark_file(stage, name):
     return f"results/benchmarks/{stage}/{name}.tsv"
 
 
-def figure(name):
-    return f"figures/{name}.png"
+def figure(name, fmt="png"):
+    """Path of a figure file: figures/<name>.<fmt>."""
+    return f"figures/{name}.{fmt}"
 
 
 def _load_scenes():

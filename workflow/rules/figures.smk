@@ -1,9 +1,11 @@
 # The figures: one rule plot_<name> per figure, all made from the one definition below.
-# Each draws figures/<name>.png from its result files with selfalign.stages.figures.draw
-# (computing and plotting stay in separate rules, so restyling never reruns a simulation)
-# and carries its caption, workflow/report/<name>.rst, into `snakemake --report`.
+# Each draws figures/<name>.<format> for every format of `figures.formats` from its result
+# files with selfalign.stages.figures.draw (computing and plotting stay in separate rules, so
+# restyling never reruns a simulation); the first format carries the caption,
+# workflow/report/<name>.rst, into `snakemake --report`.
 
 FIGURE_CONFIG = config["figures"]
+FIGURE_FORMATS = FIGURE_CONFIG["formats"]
 SIMULATION_FIGURES = "Simulation (Sects. 2-5)"
 STEADY_STATE_FIGURES = "Steady state and classification (Sects. 4-5)"
 STABILITY_FIGURES = "Stability and convergence (Sect. 6)"
@@ -45,7 +47,8 @@ for name, (category, inputs, options) in FIGURES.items():
         input:
             inputs,
         output:
-            report(figure(name), caption=f"../report/{name}.rst", category=category),
+            report(figure(name, FIGURE_FORMATS[0]), caption=f"../report/{name}.rst", category=category),
+            *(figure(name, fmt) for fmt in FIGURE_FORMATS[1:]),
         params:
             figure=name,
             options=options,
@@ -58,4 +61,4 @@ for name, (category, inputs, options) in FIGURES.items():
             "../scripts/plot_figure.py"
 
 
-TARGETS.extend(figure(name) for name in FIGURES)
+TARGETS.extend(figure(name, fmt) for name in FIGURES for fmt in FIGURE_FORMATS)

@@ -1,0 +1,95 @@
+"""`snakemake --report`: one self-contained HTML file with every figure, every result table and
+their captions.
+
+The report is built in a temporary copy of the workflow from the repository's existing
+``results/`` and ``figures/`` (so a run of ``snakemake -c2`` must come first; the test is
+skipped otherwise): only the three table jobs run, nothing is recomputed.
+"""
+
+import html
+import json
+import re
+import shutil
+
+import pytest
+from conftest import copy_workflow, run_snakemake
+
+from selfalign.stages.figures import FIGURES
+from selfalign.stages.tables import TABLES
+
+#: Results the table jobs read; without them the test would have to run the pipeline.
+NEEDED = ("results/stability", "results/benchmarks")
+
+
+def report_entries(page: str) -> dict[str, dict]:
+    """The results embedded in a report page: path -> its entry (caption, mime type, data URI)."""
+    decoder = json.JSONDecoder()
+    entries = {}
+    for match in re.finditer(r'"((?:figures|results)/[^"]+)": (\{"name": )', page):
+        entries[match.group(1)], _ = decoder.raw_decode(page, match.start(2))
+    return entries
+
+
+def caption_start(rst: str) -> str:
+    """The first words of a caption file, without inline markup."""
+    return " ".join(rst.replace("**", "").split()[:6])
+
+
+def caption_text(caption: str) -> str:
+    """The text of a rendered caption: tags removed, entities decoded, white space single."""
+    return " ".join(html.unescape(re.sub(r"<[^>]+>", "", caption)).split())
+
+
+@pytest.fixture(scope="module")
+def report(repo, tmp_path_factory):
+    """(report page, workflow copy) built from the repository's results."""
+    missing = [p for p in NEEDED if not (repo / p).is_dir()]
+    if missing:
+        pytest.skip(f"no {', '.join(missing)}: run `snakemake -c2` first")
+    work = copy_workflow(repo, tmp_path_factory.mktemp("report"))
+    shutil.copytree(repo / "results", work / "results", ignore=shutil.ignore_patterns("tables"))
+    shutil.copytree(repo / "figures", work / "figures")
+    tables = [f"results/tables/{name}.html" for name in TABLES]
+    rc, out = run_snakemake(work, "-c1", *tables)
+    assert rc == 0, out
+    rc, out = run_snakemake(work, "--report", "report.html")
+    assert rc == 0, out
+    assert "ERROR" not in out, out  # docutils reports caption markup errors and carries on
+    return (work / "report.html").read_text(encoding="utf-8"), work
+
+
+def test_report_holds_every_figure_with_its_caption(report, repo):
+    page, _ = report
+    entries = report_entries(page)
+    for name in FIGURES:
+        entry = entries.get(f"figures/{name}.png")
+        assert entry is not None, f"figures/{name}.png is not in the report"
+        assert entry["data_uri"].startswith("data:image/png;"), name  # embedded: self-contained
+        caption = entry["caption"]
+        assert caption_start((repo / f"workflow/report/{name}.rst").read_text()) in caption_text(caption), name
+        assert "problematic" not in caption and "{{" not in caption, (name, caption)
+
+
+def test_report_holds_every_table_with_its_caption(report, repo):
+    page, work = report
+    entries = report_entries(page)
+    for name in TABLES:
+        entry = entries.get(f"results/tables/{name}.html")
+        assert entry is not None, f"table {name} is not in the report"
+        assert entry["data_uri"].startswith("data:text/html;"), name
+        rst = (repo / f"workflow/report/table_{name}.rst").read_text()
+        assert caption_start(rst) in caption_text(entry["caption"]), name
+        table = (work / f"results/tables/{name}.html").read_text(encoding="utf-8")
+        assert table.count("<tr>") > 2, table  # a header and rows
+
+
+def test_tables_hold_every_stability_scene(report):
+    """The steady-state and Floquet tables have one row per scene of the stability stage."""
+    import yaml
+
+    _, work = report
+    config = yaml.safe_load((work / "workflow/config/config.yaml").read_text())
+    for name in ("steady_states", "floquet"):
+        table = (work / f"results/tables/{name}.html").read_text(encoding="utf-8")
+        for scene in config["stages"]["stability"]["scenes"]:
+            assert f"<tr><td>{scene}</td>" in table, (name, scene)

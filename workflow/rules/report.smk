@@ -1,0 +1,43 @@
+# The result tables of the report: one rule tabulate_<name> per table, each writing
+# results/tables/<name>.html from existing results with selfalign.stages.tables.build_table,
+# carried with its caption, workflow/report/table_<name>.rst, into `snakemake --report`.
+
+TABLE_CATEGORY = "Tables"
+
+#: Result files behind the job-time table: every job with a `benchmark:` file.
+BENCHMARKED_JOBS = (
+    [benchmark_file("simulation", n) for n in scenes("simulation")]
+    + [benchmark_file("accuracy", n) for n in scenes("accuracy")]
+    + [benchmark_file("classification", "fig06")]
+    + [benchmark_file("accumulation", f"shards/fig17_{i}")
+       for i in range(config["stages"]["accumulation"]["positioning"]["shards"])]
+)
+
+#: name -> input files
+TABLES = {
+    "steady_states": [results("stability", n) for n in scenes("stability")],
+    "floquet": [results("stability", n) for n in scenes("stability")],
+    "job_times": BENCHMARKED_JOBS,
+}
+
+
+for name, inputs in TABLES.items():
+
+    rule:
+        name:
+            f"tabulate_{name}"
+        input:
+            inputs,
+        output:
+            report(results("tables", name, "html"), caption=f"../report/table_{name}.rst", category=TABLE_CATEGORY),
+        params:
+            table=name,
+        log:
+            log_file("tables", name),
+        conda:
+            ENV
+        script:
+            "../scripts/write_table.py"
+
+
+TARGETS.extend(results("tables", name, "html") for name in TABLES)
