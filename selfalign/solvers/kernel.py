@@ -67,7 +67,6 @@ jit = njit(cache=True, error_model="numpy", nogil=True)
 inlined = njit(cache=True, error_model="numpy", nogil=True, inline="always")
 
 
-
 def borrowed(array):
     """``array`` itself, for use inside the kernel without reference counting (below)."""
     return array
@@ -89,6 +88,13 @@ def _borrowed(array):
     operation each, ~10 per period), and skips both for a NULL memory-info.  Safe because
     the entry points' callers hold the arrays for the whole kernel call."""
     return lambda array: _without_refcount(array)
+
+
+@jit
+def _borrowed_all(table, bnd, cross, hist, arcs, events, samples, steps):
+    """:func:`borrowed` of every array an entry point passes down to :func:`drive`."""
+    return (borrowed(table), borrowed(bnd), borrowed(cross), borrowed(hist), borrowed(arcs), borrowed(events),
+            borrowed(samples), borrowed(steps))
 
 
 _INF = math.inf
@@ -1083,8 +1089,8 @@ def run_members(members, method, table, until, total, max_events, max_cycle, acc
     record array is allocated by the caller (numpy record arrays, so that the kernel also
     runs uncompiled, NUMBA_DISABLE_JIT=1)."""
     scratch = _grid_scratch(method, table)
-    table, bnd, cross, hist = borrowed(table), borrowed(bnd), borrowed(cross), borrowed(hist)
-    arcs, events, samples, steps = borrowed(arcs), borrowed(events), borrowed(samples), borrowed(steps)
+    table, bnd, cross, hist, arcs, events, samples, steps = _borrowed_all(table, bnd, cross, hist, arcs, events,
+                                                                          samples, steps)
     for i in range(members.shape[0]):
         s = members[i]
         drive(s, method, table[s.profile], until, total, max_events, max_cycle, acc_tol, bnd[i], cross[i], False,
@@ -1097,8 +1103,8 @@ def run_recorded(members, method, table, until, total, max_events, max_cycle, ac
     """Drive member 0 recording its arcs and events (exact) or samples (Moreau) into the
     buffers; the member's n_arcs, n_events, n_samples say how many there were (a buffer
     that was too small holds the first ones only: run again with larger buffers)."""
-    table, bnd, cross, hist = borrowed(table), borrowed(bnd), borrowed(cross), borrowed(hist)
-    arcs, events, samples, sample_steps = borrowed(arcs), borrowed(events), borrowed(samples), borrowed(sample_steps)
+    table, bnd, cross, hist, arcs, events, samples, sample_steps = _borrowed_all(table, bnd, cross, hist, arcs, events,
+                                                                                 samples, sample_steps)
     s = members[0]
     drive(s, method, table[s.profile], until, total, max_events, max_cycle, acc_tol, bnd[0], cross[0], True, False,
           hist, _grid_scratch(method, table), arcs, events, samples, sample_steps, fixed_point, fp_tol, fp_max_iter)
