@@ -129,7 +129,7 @@ def optimise_fourier(dt: float, dy: float, yd_max: float, ydd_max: float, *, ord
 
     Every operation on the path is elementwise numpy, Python floats or the compiled exact
     solver, never BLAS or LAPACK, so the optimum is the same bits under every BLAS kernel
-    and thread count (tests/test_fourier_design.py runs it under two kernels).
+    and thread count (tests/test_sqp.py runs it under two kernels and two thread counts).
     """
     for name, value in (("dt", dt), ("dy", dy), ("yd_max", yd_max), ("ydd_max", ydd_max),
                         ("fd_step", fd_step), ("first_step", first_step), ("min_step", min_step)):

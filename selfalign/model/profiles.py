@@ -295,23 +295,36 @@ class FourierProfile(Profile):
             raise ValueError("Fourier coefficients must be finite")
         self.order = self.cos_coeffs.size
         self.omega = 2.0 * np.pi * np.arange(1, self.order + 1) / self.dt
+        self._extremes_cache: dict[int, tuple[float, float]] = {}
+        self._grid = None
 
     switch_times = np.empty(0)
 
-    def _derivative(self, t, n: int):
-        """n-th time derivative of y at t (vectorised).
+    def _derivatives(self, t, orders) -> list:
+        """The time derivatives of y of the given orders at t (vectorised), one cos/sin per harmonic.
 
         Summed harmonic by harmonic in a fixed order with elementwise numpy (no matrix
         product, which would go through BLAS and round differently on other CPUs).
         """
-        t = np.asarray(t, dtype=float)
-        total = np.zeros(t.shape)
+        if isinstance(t, float):
+            # One time: Python floats and math.cos/sin, which give the bits of numpy's (both
+            # are the C library's), without numpy's per-call cost in the Newton steps below.
+            cos, sin, totals = math.cos, math.sin, [0.0 for _ in orders]
+        else:
+            t = np.asarray(t, dtype=float)
+            cos, sin, totals = np.cos, np.sin, [np.zeros(t.shape) for _ in orders]
         for a, b, w in zip(self.cos_coeffs.tolist(), self.sin_coeffs.tolist(), self.omega.tolist()):
-            c, s = np.cos(w * t), np.sin(w * t)
-            # d^n/dt^n of a cos + b sin, n = 0..3: the pair rotates by a quarter turn per derivative.
-            value = ((a * c + b * s), (b * c - a * s), -(a * c + b * s), -(b * c - a * s))[n % 4]
-            total = total + w**n * value
-        return total
+            c, s = cos(w * t), sin(w * t)
+            # d^n/dt^n of a cos + b sin: the pair rotates by a quarter turn per derivative.
+            even, odd = a * c + b * s, b * c - a * s
+            values = (even, odd, -even, -odd)
+            for i, n in enumerate(orders):
+                totals[i] = totals[i] + w**n * values[n % 4]
+        return totals
+
+    def _derivative(self, t, n: int):
+        """n-th time derivative of y at t (vectorised)."""
+        return self._derivatives(t, (n,))[0]
 
     def position(self, t):
         return self._derivative(t, 0)
@@ -323,22 +336,31 @@ class FourierProfile(Profile):
         return self._derivative(t, 2)
 
     def _extremes(self, n: int) -> tuple[float, float]:
-        samples = 64 * self.order + 64
-        grid = np.linspace(0.0, self.dt, samples, endpoint=False)
-        values = self._derivative(grid, n)
+        """(min, max) of the n-th derivative (n = 0, 1, 2) over a period: the best of a grid of
+        64 (order + 1) times, refined by Newton on the (n+1)-th derivative.  Computed once per
+        profile (the coefficients do not change); one grid evaluation serves all three orders."""
+        if n not in self._extremes_cache:
+            if self._grid is None:
+                grid = np.linspace(0.0, self.dt, 64 * self.order + 64, endpoint=False)
+                self._grid = grid, self._derivatives(grid, (0, 1, 2))
+            grid, values = self._grid
+            self._extremes_cache[n] = self._refine_extremes(n, grid, values[n])
+        return self._extremes_cache[n]
+
+    def _refine_extremes(self, n: int, grid: np.ndarray, values: np.ndarray) -> tuple[float, float]:
+        step_limit = self.dt / grid.size
         results = []
         for idx in (np.argmin(values), np.argmax(values)):
-            t = grid[idx]
+            t = float(grid[idx])
             for _ in range(20):  # Newton on the derivative of the n-th derivative
-                d1 = self._derivative(t, n + 1)
-                d2 = self._derivative(t, n + 2)
+                d1, d2 = self._derivatives(t, (n + 1, n + 2))
                 if d2 == 0:
                     break
                 step = d1 / d2
-                t = t - np.clip(step, -self.dt / samples, self.dt / samples)
+                t = t - min(max(step, -step_limit), step_limit)
                 if abs(step) < 1e-15 * self.dt:
                     break
-            results.append(float(self._derivative(t, n)))
+            results.append(self._derivative(t, n))
         return min(results[0], values.min()), max(results[1], values.max())
 
     @property
