@@ -77,6 +77,18 @@ def test_stop_scene_ends_inside_the_accumulation(studies):
     assert limit - 1e-3 < attrs["x_ref_end"] < limit
 
 
+def test_every_method_is_timed_with_the_same_fast_forward(studies):
+    """The CPU times compare methods on equal terms: every method runs under the one driver, whose
+    fast-forward skips the same periods of a steady state (README, "Accuracy and cost").  The case 1
+    scene is periodic from t = 0 (Sect. 5.1), so every run of its 4 periods simulates 1 and skips
+    3; the stop scene accumulates (no cycle), so no run skips any."""
+    for name, skipped in (("accuracy_steady", 3), ("accuracy_stop", 0)):
+        _, (_, attrs, groups) = studies[name]
+        assert groups["exact"]["attrs"]["fast_forward_periods"] == skipped
+        for method in ("moreau", "ivp"):
+            assert set(groups[method]["datasets"]["fast_forward_periods"].tolist()) == {skipped}, (name, method)
+
+
 def test_study_round_trips_through_hdf5(studies, tmp_path):
     """The study's layout is stored and read back unchanged (the figure reads the file)."""
     _, (datasets, attrs, groups) = studies["accuracy_stop"]
