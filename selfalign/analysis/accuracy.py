@@ -16,7 +16,8 @@ taken over one period; in steady state this is the paper's vbar), against the
 **CPU time** (``time.process_time`` around one ``simulate`` call over the N
 periods).  Every method runs under the same driver, which fast-forwards a repeating
 period-boundary state: the CPU time is that of the periods each run actually simulated
-(``fast_forward_periods`` says how many it skipped; in a steady state nearly all).  x(N - 1) comes from a second, untimed call over N - 1 periods: the
+(``fast_forward_periods`` says how many it skipped; in a steady state nearly all).
+x(N - 1) comes from a second, untimed call over N - 1 periods: the
 solvers are deterministic, so it is the state the timed run passes at that time
 (up to rounding).  Runs shorter than ``min_timing`` are repeated and the fastest
 is kept (like ``timeit``), after one untimed warm-up per method so that no import
@@ -150,7 +151,8 @@ def timed_run(scene: Scene, method: str, options: dict, min_timing: float) -> Ru
     return Run(x_prev=float(head.x_end), x_end=float(full.x_end),
                vbar=(full.x_end - head.x_end) / scene.profile.dt, cpu_time=best,
                steps=int(full.stats.get("steps", 0)), events=int(full.stats.get("events", 0)),
-               status=full.status.value, fast_forward_periods=int(full.info["fast_forward_periods"]))
+               status=full.status.value,
+               fast_forward_periods=int(full.info["fast_forward_periods"]))
 
 
 def fit_loglog(x, y) -> tuple[float, float, float, float]:
@@ -275,6 +277,7 @@ def study(scene: Scene, settings: StudySettings = StudySettings()) -> tuple[dict
         "ivp": {"datasets": {"rtol": rtols, "atol": atols, **i_table}},
         "exact": {"attrs": {"cpu_time": ref.cpu_time, "x_end": ref.x_end, "vbar": ref.vbar,
                             "steps": ref.steps, "events": ref.events, "status": ref.status,
-                            "fast_forward_periods": ref.fast_forward_periods, "events_run_events": events_run, "events_run_cpu_time": best}},
+                            "fast_forward_periods": ref.fast_forward_periods,
+                            "events_run_events": events_run, "events_run_cpu_time": best}},
     }
     return {}, attrs, groups
