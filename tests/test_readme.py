@@ -64,7 +64,7 @@ def test_quick_start_extra_and_tools_are_declared(repo):
     assert "snakemake" in names and "pytest" in names
 
 
-@pytest.mark.parametrize("title", ["Quick start", "The model and its conventions", "The three-phase profile",
+@pytest.mark.parametrize("title", ["Quick start", "Install", "The model and its conventions", "The three-phase profile",
                                    "The polynomial profile", "Scenes", "Pipeline", "Results",
                                    "Rerun recordings", "Figure regression", "Solvers",
                                    "Steady state and classification", "Stability", "Stopping and accumulation",
