@@ -32,8 +32,8 @@ PIXEL_TOL = 1.0
 
 
 def pinned_matplotlib_series(repo):
-    """"3.11" from the dependency "matplotlib==3.11.*" in pyproject.toml."""
-    deps = tomllib.loads((repo / "pyproject.toml").read_text())["project"]["dependencies"]
+    """"3.11" from the dependency "matplotlib==3.11.*" of the `plots` extra in pyproject.toml."""
+    deps = tomllib.loads((repo / "pyproject.toml").read_text())["project"]["optional-dependencies"]["plots"]
     pins = [m.group(1) for d in deps if (m := re.fullmatch(r"matplotlib\s*==\s*(\d+\.\d+)\.\*", d))]
     assert len(pins) == 1, f"pyproject.toml must pin matplotlib as ==X.Y.*, got {deps}"
     return pins[0]

@@ -5,6 +5,7 @@ import tomllib
 
 import pytest
 import yaml
+from test_light_install import requirement_names
 
 from selfalign.io.scene_files import load_scene, scene_schema
 from selfalign.stages.trajectory import profile_samples
@@ -55,14 +56,15 @@ def test_ci_runs_the_readme_test_command_verbatim(repo, readme):
 
 
 def test_quick_start_extra_and_tools_are_declared(repo):
-    """'.[test]' names an extra that exists; snakemake and pytest come with the install."""
+    """'.[test]' names an extra that exists; snakemake (through the `workflow` extra it names) and
+    pytest come with the install."""
     project = tomllib.loads((repo / "pyproject.toml").read_text())["project"]
     assert "test" in project["optional-dependencies"]
-    names = [re.split(r"[=<>!~\[ ]", d)[0] for d in project["dependencies"] + project["optional-dependencies"]["test"]]
+    names = requirement_names(project, "test")
     assert "snakemake" in names and "pytest" in names
 
 
-@pytest.mark.parametrize("title", ["Quick start", "The model and its conventions", "The three-phase profile",
+@pytest.mark.parametrize("title", ["Quick start", "Install", "The model and its conventions", "The three-phase profile",
                                    "The polynomial profile", "Scenes", "Pipeline", "Results",
                                    "Rerun recordings", "Figure regression", "Solvers",
                                    "Steady state and classification", "Stability", "Stopping and accumulation",

@@ -18,7 +18,10 @@ from pathlib import Path
 
 import numpy as np
 
+from ..model.errors import require_extra
 from .hdf5 import atomic_path
+
+require_extra("rerun", "rerun", "selfalign.io.recording")
 
 #: Series names: entity-path segments rerun needs no escaping for, joined by "/".
 _NAME = re.compile(r"[A-Za-z0-9_.\-]+(/[A-Za-z0-9_.\-]+)*")

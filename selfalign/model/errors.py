@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 import numbers
+from importlib.util import find_spec
 
 
 class NonPhysicalProfile(ValueError):
@@ -16,6 +17,21 @@ class NonPhysicalProfile(ValueError):
 
 class SceneError(ValueError):
     """A scene file or Scene object is invalid; the message names file and key."""
+
+
+def require_extra(module: str, extra: str, needed_by: str) -> None:
+    """Raise an ImportError naming the extra to install unless ``module`` is importable.
+
+    The core install leaves matplotlib, rerun and Snakemake out (README "Install"); a layer that
+    needs one calls this at its top.  It only looks the module up, so the guard costs no import time.
+    """
+    try:
+        found = find_spec(module) is not None
+    except ImportError:  # an import hook refuses the module
+        found = False
+    if not found:
+        raise ImportError(f"{needed_by} needs {module}, which the core install leaves out: "
+                          f"pip install 'selfalign[{extra}]'")
 
 
 def check_finite(name: str, value) -> float:

@@ -15,6 +15,8 @@ rule run_benchmarks:
         log_file("benchmarks", "run_benchmarks"),
     # The timed pipeline run uses `cores` cores; reserve them so no other job skews the timings.
     threads: BENCHMARKS.get("cores", 2)
+    conda:
+        ENV
     script:
         "../scripts/run_benchmarks.py"
 

@@ -12,7 +12,7 @@ import selfalign
 #: Final outputs of all stages; each stage's .smk extends it, rule `all` requests it.
 TARGETS = []
 
-#: Software environment of every rule (`snakemake --use-conda`): the package and its pins.
+#: Conda environment of every job (`snakemake --use-conda`): the package with its workflow extra, pinned.
 ENV = "../envs/selfalign.yaml"
 
 
