@@ -190,7 +190,8 @@ def test_recording_id_follows_the_content(tmp_path):
     first = content_id(Recording(t, series, logs=logs))
     assert first == content_id(Recording(t.copy(), {k: v.copy() for k, v in series.items()}, logs=dict(logs)))
     changed = {k: v + (k == sorted(series)[0]) * 1e-12 for k, v in series.items()}
-    others = [Recording(t, changed, logs=logs), Recording(t, series, logs={"events": LogEntries(t[:1], ["b"], ["INFO"])}),
+    other_log = {"events": LogEntries(t[:1], ["b"], ["INFO"])}
+    others = [Recording(t, changed, logs=logs), Recording(t, series, logs=other_log),
               Recording(t, series, logs=logs, period=1.0)]
     assert len({first, *map(content_id, others)}) == 4
     for name in ("a.rrd", "b.rrd"):
