@@ -10,7 +10,7 @@ from selfalign.analysis.steady_state import steady_state
 from selfalign.io.hdf5 import read_h5, write_h5
 from selfalign.io.recording import read_recording, write_recording
 from selfalign.solvers.driver import simulate_batch
-from selfalign.stages.convergence import convergence_result, recording_series
+from selfalign.stages.convergence import convergence_recording, convergence_result
 
 EPS = np.finfo(float).eps
 
@@ -148,7 +148,7 @@ def test_convergence_result_and_recording(repo, tmp_path):
     assert np.all(d["interval_equal"][1:] != d["interval_equal"][:-1])
     assert (a["v10"], a["v20"], a["case"]) == (1.5, 0.3, 1) and 0 < a["converged_time"] < 3 * 1.05
     np.testing.assert_array_equal(d["V"], 0.5 * (d["v1"] - d["v2"]) ** 2)
-    rrd = write_recording(tmp_path / "fig13.rrd", *recording_series(result))
+    rrd = write_recording(tmp_path / "fig13.rrd", convergence_recording(result))
     rec = read_recording(rrd)
     assert set(rec) == {"velocity/v1", "velocity/v2", "lyapunov/V"}
     np.testing.assert_array_equal(rec["lyapunov/V"][1], d["V"])

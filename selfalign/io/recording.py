@@ -1,8 +1,9 @@
-"""Headless rerun recordings (``.rrd``) of simulated time series.
+"""Headless rerun recordings (``.rrd``) of simulated time series, their events and their scene.
 
 A recording is a browsable companion of an HDF5 result: open it with
-``rerun file.rrd`` to scrub through position, velocity, friction force and
-mode of a run.  Nothing here starts a viewer; files are written through
+``rerun file.rrd`` to scrub through the series of a run with its events marked.
+:class:`Recording` says what a file holds, :func:`write_recording` writes it.
+Nothing here starts a viewer; files are written through
 :func:`selfalign.io.hdf5.atomic_path`, so a failed write leaves nothing.
 
 rerun is imported inside the functions because it is heavy and only needed
@@ -14,7 +15,9 @@ from __future__ import annotations
 import hashlib
 import re
 import uuid
+from dataclasses import dataclass, field, fields
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
@@ -23,9 +26,22 @@ from .hdf5 import atomic_path
 
 require_extra("rerun", "rerun", "selfalign.io.recording")
 
-#: Series names: entity-path segments rerun needs no escaping for, joined by "/".
+#: Entity names: path segments rerun needs no escaping for, joined by "/".
 _NAME = re.compile(r"[A-Za-z0-9_.\-]+(/[A-Za-z0-9_.\-]+)*")
 _SCALARS = "Scalars:scalars"
+#: Text-log levels the viewer knows (it colours and filters by them).
+LEVELS = ("TRACE", "DEBUG", "INFO", "WARN", "ERROR", "CRITICAL")
+MEDIA_TYPES = ("text/plain", "text/markdown")
+#: The sequence timeline of period numbers written beside the time timeline when a period is given.
+PERIOD_TIMELINE = "period"
+
+
+class LogEntries(NamedTuple):
+    """Text-log lines: one time (seconds), text and level (:data:`LEVELS`) per line."""
+
+    times: np.ndarray
+    texts: list[str]
+    levels: list[str]
 
 
 def default_groups(names) -> dict[str, list[str]]:
@@ -36,95 +52,242 @@ def default_groups(names) -> dict[str, list[str]]:
     return groups
 
 
-def write_recording(path, times, series: dict, *, timeline: str = "time",
-                    application_id: str = "selfalign",
-                    blueprint_groups: dict[str, list[str]] | None = None) -> Path:
-    """Write ``series`` (name -> values at ``times``, in seconds) to an rrd file.
+def _check_name(what: str, name) -> str:
+    if not isinstance(name, str) or not _NAME.fullmatch(name):
+        raise ValueError(f"{what} name {name!r}: use letters, digits, '_', '.', '-' and '/' between segments")
+    return name
 
-    Every series becomes the scalar entity ``/<name>`` on the duration
-    timeline ``timeline``, sent as one column (no per-sample Python loop).
-    rerun stores durations in integer nanoseconds, so times are rounded to
-    the nearest nanosecond (rerun itself would truncate).  The recording
-    carries a default blueprint with one time-series view per entry of
-    ``blueprint_groups`` (view name -> series names), stacked vertically so
-    that the views share the time axis; by default series are grouped by
-    :func:`default_groups`.
-    """
-    import rerun as rr
-    import rerun.blueprint as rrb
 
+def _check_times(what: str, times) -> np.ndarray:
     times = np.asarray(times, dtype=float)
     if times.ndim != 1 or not np.all(np.isfinite(times)):
-        raise ValueError("times must be a one-dimensional array of finite numbers")
-    columns = {}
-    for name, values in series.items():
-        if not isinstance(name, str) or not _NAME.fullmatch(name):
-            raise ValueError(f"series name {name!r}: use letters, digits, '_', '.', '-' and '/' between segments")
-        values = np.asarray(values, dtype=float)
-        if values.shape != times.shape:
-            raise ValueError(f"series {name!r} has shape {values.shape}, times have {times.shape}")
-        columns[name] = values
-    groups = default_groups(columns) if blueprint_groups is None else blueprint_groups
-    unknown = sorted({n for names in groups.values() for n in names} - set(columns))
-    if unknown:
-        raise ValueError(f"blueprint_groups name series that are not recorded: {unknown}")
+        raise ValueError(f"{what} must be a one-dimensional array of finite numbers")
+    return times
 
-    blueprint = rrb.Blueprint(
-        rrb.Vertical(*(rrb.TimeSeriesView(name=view, origin="/", contents=[f"/{n}" for n in names])
-                       for view, names in groups.items())),
-    )
-    index = rr.TimeColumn(timeline, duration=np.round(times * 1e9).astype("timedelta64[ns]"))
+
+@dataclass(frozen=True)
+class Recording:
+    """What a recording holds.
+
+    * ``series``: name -> values at ``times`` (seconds), each the scalar entity ``/<name>``
+      drawn as a line;
+    * ``markers``: name -> (times, values), scalar entities drawn as points (events on a plot);
+    * ``logs``: name -> :class:`LogEntries`, text-log entities;
+    * ``documents``: name -> (text, media type of :data:`MEDIA_TYPES`), static text entities;
+    * ``period``: the period length; if given, every time also gets its period number
+      floor(t / period) on the sequence timeline :data:`PERIOD_TIMELINE`;
+    * ``view_titles``: plot (first path segment of series and markers) -> title; titled plots
+      come first, in this order, then the others in order of appearance.
+
+    The default blueprint stacks one time-series view per plot vertically (so that they share
+    the time axis, linked), beside the documents and one text-log view of all logs.
+    """
+
+    times: np.ndarray
+    series: dict[str, np.ndarray]
+    timeline: str = "time"
+    period: float | None = None
+    markers: dict[str, tuple[np.ndarray, np.ndarray]] = field(default_factory=dict)
+    logs: dict[str, LogEntries] = field(default_factory=dict)
+    documents: dict[str, tuple[str, str]] = field(default_factory=dict)
+    view_titles: dict[str, str] = field(default_factory=dict)
+    application_id: str = "selfalign"
+
+    def __post_init__(self):
+        times = _check_times("times", self.times)
+        series = {}
+        for name, values in self.series.items():
+            values = np.asarray(values, dtype=float)
+            if values.shape != times.shape:
+                raise ValueError(f"series {name!r} has shape {values.shape}, times have {times.shape}")
+            series[_check_name("series", name)] = values
+        markers = {}
+        for name, (at, values) in self.markers.items():
+            at, values = _check_times(f"times of marker {_check_name('marker', name)!r}", at), np.asarray(values, float)
+            if values.shape != at.shape:
+                raise ValueError(f"marker {name!r} has {values.size} values at {at.size} times")
+            markers[name] = (at, values)
+        logs = {}
+        for name, (at, texts, levels) in self.logs.items():
+            at = _check_times(f"times of log {_check_name('log', name)!r}", at)
+            texts, levels = [str(t) for t in texts], list(levels)
+            if not len(texts) == len(levels) == at.size:
+                raise ValueError(f"log {name!r} has {at.size} times, {len(texts)} texts, {len(levels)} levels")
+            unknown = sorted(set(levels) - set(LEVELS))
+            if unknown:
+                raise ValueError(f"log {name!r}: unknown level(s) {unknown}; allowed: {list(LEVELS)}")
+            logs[name] = LogEntries(at, texts, levels)
+        for name, (text, media_type) in self.documents.items():
+            if not isinstance(text, str) or media_type not in MEDIA_TYPES:
+                raise ValueError(f"document {_check_name('document', name)!r} must be (text, media type) with a "
+                                 f"media type of {list(MEDIA_TYPES)}, got ({type(text).__name__}, {media_type!r})")
+        entities = [*series, *markers, *logs, *self.documents]
+        repeated = sorted({n for n in entities if entities.count(n) > 1})
+        if repeated:
+            raise ValueError(f"entity name(s) {repeated} used twice (series, markers, logs and documents)")
+        unknown = sorted(set(self.view_titles) - set(default_groups([*series, *markers])))
+        if unknown:
+            raise ValueError(f"view_titles name plots that are not recorded: {unknown}")
+        if self.period is not None and not (np.isfinite(self.period) and self.period > 0):
+            raise ValueError(f"period must be a positive finite number or None, got {self.period!r}")
+        for key, value in (("times", times), ("series", series), ("markers", markers), ("logs", logs)):
+            object.__setattr__(self, key, value)
+
+    def plots(self) -> dict[str, str]:
+        """Plot (first path segment) -> view title, in display order."""
+        groups = default_groups([*self.series, *self.markers])
+        return {**self.view_titles, **{g: g for g in groups if g not in self.view_titles}}
+
+    def indexes(self, times: np.ndarray) -> list:
+        """rerun time columns of ``times``: the duration timeline (rounded to the nearest ns, where
+        rerun itself would truncate) and, with a period, the period numbers."""
+        import rerun as rr
+
+        columns = [rr.TimeColumn(self.timeline, duration=np.round(times * 1e9).astype("timedelta64[ns]"))]
+        if self.period is not None:
+            columns.append(rr.TimeColumn(PERIOD_TIMELINE, sequence=np.floor(times / self.period).astype(np.int64)))
+        return columns
+
+    def blueprint(self):
+        """The default layout: the plots stacked with linked time axes, beside documents and logs."""
+        import rerun.blueprint as rrb
+
+        linked = rrb.archetypes.TimeAxis(link=rrb.components.LinkAxis.LinkToGlobal)
+        plots = rrb.Vertical(*(rrb.TimeSeriesView(name=title, origin=f"/{plot}", axis_x=linked)
+                               for plot, title in self.plots().items()))
+        side = [rrb.TextDocumentView(name=name, origin=f"/{name}") for name in self.documents]
+        if self.logs:
+            side.append(rrb.TextLogView(name="log", origin="/", contents=[f"/{name}" for name in self.logs]))
+        if not side:
+            return rrb.Blueprint(plots)
+        return rrb.Blueprint(rrb.Horizontal(plots, rrb.Vertical(*side), column_shares=[2, 1]))
+
+
+def write_recording(path, recording: Recording) -> Path:
+    """Write ``recording`` to the rrd file ``path`` with its default blueprint.
+
+    Series and markers are sent as columns (no per-sample Python loop); the recording id is
+    :func:`content_id`.
+    """
+    import rerun as rr
+
+    if not isinstance(recording, Recording):
+        raise TypeError(f"write_recording needs a Recording, got {type(recording).__name__}")
     with atomic_path(path) as tmp:
-        rec = rr.RecordingStream(application_id, recording_id=content_id(application_id, timeline, times, columns))
-        rec.save(tmp, default_blueprint=blueprint)
+        rec = rr.RecordingStream(recording.application_id, recording_id=content_id(recording))
+        rec.save(tmp, default_blueprint=recording.blueprint())
         try:
-            for name, values in columns.items():
-                rec.send_columns(f"/{name}", indexes=[index], columns=rr.Scalars.columns(scalars=values))
+            for name, (text, media_type) in recording.documents.items():
+                rec.log(f"/{name}", rr.TextDocument(text, media_type=media_type), static=True)
+            index = recording.indexes(recording.times)
+            for name, values in recording.series.items():
+                rec.send_columns(f"/{name}", indexes=index, columns=rr.Scalars.columns(scalars=values))
+            for name, (at, values) in recording.markers.items():
+                rec.log(f"/{name}", rr.SeriesPoints(markers="circle", marker_sizes=4.0), static=True)
+                rec.send_columns(f"/{name}", indexes=recording.indexes(at),
+                                 columns=rr.Scalars.columns(scalars=values))
+            for name, entries in recording.logs.items():
+                rec.send_columns(f"/{name}", indexes=recording.indexes(entries.times),
+                                 columns=rr.TextLog.columns(text=entries.texts, level=entries.levels))
         finally:
             rec.disconnect()
     return Path(path)
 
 
-def content_id(application_id: str, timeline: str, times: np.ndarray, columns: dict) -> uuid.UUID:
-    """The recording id of these contents: a UUID from the SHA-256 of the application id, the
-    timeline, the times and every series (name and float64 bytes), so that the same inputs
-    give the same recording (the viewer shows two writes of one scene as one recording).
-    rerun itself still stamps each write with its own chunk ids and start time, so the file
-    bytes differ between writes; the data read back (:func:`read_recording`) do not."""
+def _feed(digest, value) -> None:
+    """Add ``value`` to ``digest`` unambiguously (type tag and length before every part)."""
+    if isinstance(value, dict):
+        digest.update(b"d%d;" % len(value))
+        for key in sorted(value):
+            _feed(digest, key)
+            _feed(digest, value[key])
+    elif isinstance(value, (list, tuple)):
+        digest.update(b"l%d;" % len(value))
+        for item in value:
+            _feed(digest, item)
+    elif isinstance(value, np.ndarray):
+        data = np.ascontiguousarray(value)
+        digest.update(f"a{data.dtype.str}{data.shape};".encode() + data.tobytes())
+    else:
+        text = repr(value).encode()
+        digest.update(b"s%d;" % len(text) + text)
+
+
+def content_id(recording: Recording) -> uuid.UUID:
+    """The recording id of these contents: a UUID from the SHA-256 of every field of ``recording``,
+    so that the same inputs give the same recording (the viewer shows two writes of one scene as
+    one recording).  rerun itself still stamps each write with its own chunk ids and start time,
+    so the file bytes differ between writes; the data read back do not."""
     digest = hashlib.sha256()
-    for part in (application_id, timeline):
-        digest.update(part.encode() + b"\0")
-    digest.update(np.ascontiguousarray(times, dtype=float).tobytes())
-    for name in sorted(columns):
-        digest.update(name.encode() + b"\0" + np.ascontiguousarray(columns[name], dtype=float).tobytes())
+    for item in fields(recording):
+        _feed(digest, item.name)
+        _feed(digest, getattr(recording, item.name))
     return uuid.UUID(bytes=digest.digest()[:16], version=5)
 
 
-def read_recording(path, *, timeline: str = "time") -> dict[str, tuple[np.ndarray, np.ndarray]]:
-    """Scalar series of an rrd file: name -> (times in seconds, values), sorted by time.
-
-    The inverse of :func:`write_recording`, used to check what a recording
-    holds; static data such as recording properties is skipped.
-    """
+def _chunks(path):
     from rerun.chunk import RrdReader
 
-    parts: dict[str, list[tuple[np.ndarray, np.ndarray]]] = {}
-    for chunk in RrdReader(path).store().stream().to_chunks():
+    return RrdReader(path).store().stream().to_chunks()
+
+
+def _index_values(batch, timeline: str) -> np.ndarray:
+    """A timeline's column: seconds for a duration timeline, integers for a sequence."""
+    import pyarrow as pa
+
+    column = batch.column(timeline)
+    values = column.cast("int64").to_numpy(zero_copy_only=False)
+    return values / 1e9 if pa.types.is_duration(column.type) else values
+
+
+def _timed(path, timeline: str, *components: str) -> dict[str, tuple[np.ndarray, list]]:
+    """name -> (index, one arrow list array per component), sorted by index (stable), of the
+    entities that hold ``components`` on ``timeline``; static data is skipped."""
+    import pyarrow as pa
+
+    parts: dict[str, list[tuple[np.ndarray, list]]] = {}
+    for chunk in _chunks(path):
         if chunk.is_static or timeline not in chunk.timeline_names:
             continue
         batch = chunk.to_record_batch()
-        if _SCALARS not in batch.schema.names:
-            continue
-        scalars = batch.column(_SCALARS)
-        if np.any(scalars.value_lengths().to_numpy(zero_copy_only=False) != 1):
-            raise ValueError(f"{path}: {chunk.entity_path} holds more than one scalar per time")
-        t_ns = batch.column(timeline).cast("int64").to_numpy(zero_copy_only=False)
-        parts.setdefault(chunk.entity_path.lstrip("/"), []).append(
-            (t_ns, scalars.flatten().to_numpy(zero_copy_only=False)))
+        if components[0] in batch.schema.names:
+            parts.setdefault(chunk.entity_path.lstrip("/"), []).append(
+                (_index_values(batch, timeline), [batch.column(c) for c in components]))
     out = {}
     for name, pieces in parts.items():
-        t_ns = np.concatenate([p[0] for p in pieces])
-        values = np.concatenate([p[1] for p in pieces])
-        order = np.argsort(t_ns, kind="stable")
-        out[name] = (t_ns[order] / 1e9, values[order])
+        index = np.concatenate([p[0] for p in pieces])
+        order = pa.array(np.argsort(index, kind="stable"))
+        out[name] = (index[order.to_numpy()],
+                     [pa.concat_arrays([p[1][k] for p in pieces]).take(order) for k in range(len(components))])
+    return out
+
+
+def read_recording(path, *, timeline: str = "time") -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    """Scalar series and markers of an rrd file: name -> (index, values), sorted by index.
+
+    The index is the time in seconds on a duration timeline, the integer on a sequence timeline
+    (:data:`PERIOD_TIMELINE`).  Used to check what a recording holds.
+    """
+    out = {}
+    for name, (index, (scalars,)) in _timed(path, timeline, _SCALARS).items():
+        if np.any(scalars.value_lengths().to_numpy(zero_copy_only=False) != 1):
+            raise ValueError(f"{path}: {name} holds more than one scalar per time")
+        out[name] = (index, scalars.flatten().to_numpy(zero_copy_only=False))
+    return out
+
+
+def read_logs(path, *, timeline: str = "time") -> dict[str, LogEntries]:
+    """Text logs of an rrd file: name -> :class:`LogEntries` sorted by time (stable)."""
+    return {name: LogEntries(index, texts.flatten().to_pylist(), levels.flatten().to_pylist())
+            for name, (index, (texts, levels)) in _timed(path, timeline, "TextLog:text", "TextLog:level").items()}
+
+
+def read_documents(path) -> dict[str, str]:
+    """Text documents of an rrd file: name -> text."""
+    out = {}
+    for chunk in _chunks(path):
+        batch = chunk.to_record_batch()
+        if "TextDocument:text" in batch.schema.names:
+            (text,) = batch.column("TextDocument:text").flatten().to_pylist()
+            out[chunk.entity_path.lstrip("/")] = text
     return out

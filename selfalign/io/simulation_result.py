@@ -1,4 +1,4 @@
-"""Simulation results as HDF5 content and rerun series, and back.
+"""Simulation results as HDF5 content and rerun recordings, and back.
 
 The simulation stage stores one :class:`~selfalign.solvers.outcomes.Trajectory` per
 scene in ``results/simulation/<scene>.h5`` through
@@ -30,22 +30,32 @@ from __future__ import annotations
 import numpy as np
 
 from ..model.scene import Scene
-from ..solvers.outcomes import EventKind, Reason, Status
+from ..solvers.outcomes import FORWARD_SLIP, EventKind, Reason, Status
 from ..solvers.records import EVENT_DTYPE
 from ..solvers.results import Trajectory
+from .recording import LogEntries, Recording
 from .scene_files import scene_from_dict
 
-#: Rerun entity path of each recordable series: one plot per quantity kind.
+#: Rerun entity path of each recordable series, "<plot>/<name>": one plot per quantity kind.
 RERUN_ENTITIES = {
     "x": "position/x",
     "y": "position/y",
     "v": "velocity/v",
     "yd": "velocity/yd",
     "ydd": "acceleration/ydd",
-    "friction": "force/friction",
+    "friction": "friction/force",
     "mode": "mode/mode",
 }
-
+#: Title of each plot, top to bottom.
+RERUN_PLOTS = {
+    "position": "position x, table y",
+    "velocity": "velocity x', table y'",
+    "acceleration": "table acceleration y''",
+    "friction": "friction force F_f, coefficient mu_bar(x)",
+    "mode": "mode (1 forward slip, 0 stick, -1 backward slip)",
+}
+#: Where each event is marked: the plot and the event-log column of its value.
+EVENT_MARKS = {"position": "x", "velocity": "v"}
 
 def event_datasets(events: np.ndarray, dt: float) -> dict[str, np.ndarray]:
     """The columns of an event log (``EVENT_DTYPE``) as datasets, plus the absolute time ``t``."""
@@ -120,15 +130,91 @@ def scene_from_result(result: dict) -> Scene:
     return scene_from_dict(yaml.safe_load(a["scene"]), source=f"stored scene {a.get('scene_name')!r}")
 
 
-def rerun_series(traj: Trajectory) -> tuple[np.ndarray, dict[str, np.ndarray]]:
-    """(times, {entity path: values}) of the recorded series, for :func:`write_recording`.
+def event_label(kind: int, mode: int) -> str:
+    """What an event is called in a recording: its kind, with the direction of the motion after
+    it for slips and reversals, and for zone crossings whether the mass enters (moving forward)
+    or leaves."""
+    kind = EventKind(kind)
+    if kind in (EventKind.SLIP, EventKind.REVERSAL):
+        return f"{kind.name.lower()}_{'forward' if mode == FORWARD_SLIP else 'backward'}"
+    if kind is EventKind.ZONE:
+        return "zone_entry" if mode == FORWARD_SLIP else "zone_exit"
+    return kind.name.lower()
 
-    Entities are named by :data:`RERUN_ENTITIES` (``position/x``, ``velocity/v``,
-    ``force/friction``, ...), so the recording's default blueprint draws one plot
-    per quantity kind.  Raises ValueError if nothing was recorded.
+
+def _event_log(events: dict, surface) -> tuple[list[str], list[str], list[str]]:
+    """(labels, texts, levels) of the events of a result (:func:`event_datasets` columns)."""
+    labels, texts, levels = [], [], []
+    for kind, period, x, v, mode, before, after in zip(
+            *(events[c].tolist() for c in ("kind", "period", "x", "v", "mode", "acc_before", "acc_after"))):
+        label = event_label(kind, mode)
+        if kind == EventKind.SWITCH:
+            text = f"table switch: x'' {before:.10g} -> {after:.10g}"
+        elif kind == EventKind.ZONE:
+            boundary = "x_mu" if abs(x - surface.x_mu) <= abs(x - surface.x_end) else "x_mu + w"
+            text = f"{label.replace('_', ' ')} at {boundary} = {x:.10g}, x' = {v:.10g}"
+        else:
+            text = f"{label.replace('_', ' ')} at x = {x:.10g}, x' = {v:.10g}"
+        labels.append(label)
+        texts.append(f"period {period}: {text}")
+        # switches are the table's, three or more a period: below the mass's events
+        levels.append("DEBUG" if kind == EventKind.SWITCH else "INFO")
+    return labels, texts, levels
+
+
+def _parameters(attrs: dict, scene_dict: dict) -> str:
+    """The key parameters of a result as a markdown table: every scene block, then the outcome."""
+    rows = [(key, ", ".join(f"{k} = {v}" for k, v in value.items()) if isinstance(value, dict) else value)
+            for key, value in scene_dict.items() if key not in ("name", "description", "record")]
+    rows += [("outcome", f"{attrs['status']}: {attrs['message']}"),
+             ("end", f"t = {attrs['t_end']:.10g}, x = {attrs['x_end']:.10g}, x' = {attrs['v_end']:.10g}")]
+    lines = [f"# {attrs['scene_name']}", "", scene_dict.get("description", ""), "", "| | |", "|---|---|"]
+    return "\n".join(lines + [f"| {key} | {value} |" for key, value in rows]) + "\n"
+
+
+def simulation_recording(result: dict) -> Recording:
+    """The rerun recording of a simulation result (:func:`read_h5` layout), for :func:`write_recording`.
+
+    * the recorded series as ``<plot>/<name>`` (:data:`RERUN_ENTITIES`), with mu_bar(x) of the
+      scene's surface as ``friction/mu_bar`` when x is recorded, on the timelines ``time`` and
+      ``period``; plots titled and ordered by :data:`RERUN_PLOTS`;
+    * every event of the event log (if recorded) as a line of the text log ``events`` and,
+      except table switches, as a point ``<plot>/events/<label>`` (:func:`event_label`) on the
+      x and x' plots (:data:`EVENT_MARKS`);
+    * the outcome as the text log ``outcome`` and a point ``position/events/<status>`` at
+      (t_end, x_end) (``accumulation_limit`` for an accumulation, whose x_end is the limit);
+    * the documents ``scene`` (the stored scene YAML) and ``parameters`` (a markdown table).
+
+    Raises ValueError if nothing was recorded.
     """
-    if not traj.series:
-        raise ValueError("the trajectory has no recorded series; a rerun recording needs record.series")
-    series = {RERUN_ENTITIES[name]: np.asarray(values, dtype=float)
-              for name, values in traj.series.items() if name != "t"}
-    return np.asarray(traj.series["t"], dtype=float), series
+    import yaml
+
+    attrs, groups = result["attrs"], result["groups"]
+    if "series" not in groups:
+        raise ValueError("the result has no recorded series; a rerun recording needs record.series")
+    recorded = groups["series"]["datasets"]
+    series = {RERUN_ENTITIES[name]: values for name, values in recorded.items() if name != "t"}
+    surface = scene_from_result(result).surface
+    if "x" in recorded:
+        series["friction/mu_bar"] = surface.coefficient(recorded["x"])
+    markers, logs = {}, {}
+    if "events" in groups:
+        events = groups["events"]["datasets"]
+        labels, texts, levels = _event_log(events, surface)
+        logs["events"] = LogEntries(events["t"], texts, levels)
+        marked = [(plot, column) for plot, column in EVENT_MARKS.items() if RERUN_ENTITIES[column] in series]
+        for label in sorted(set(labels) - {"switch"}):
+            chosen = np.asarray(labels) == label
+            for plot, column in marked:
+                markers[f"{plot}/events/{label}"] = (events["t"][chosen], events[column][chosen])
+    status = Status(attrs["status"])
+    end_label = "accumulation_limit" if status is Status.ACCUMULATION else status.value
+    logs["outcome"] = LogEntries(np.array([attrs["t_end"]]), [attrs["message"]],
+                                 ["ERROR" if status is Status.ERROR else "INFO"])
+    if "x" in recorded:
+        markers[f"position/events/{end_label}"] = (np.array([attrs["t_end"]]), np.array([attrs["x_end"]]))
+    documents = {"scene": (attrs["scene"], "text/plain"),
+                 "parameters": (_parameters(attrs, yaml.safe_load(attrs["scene"])), "text/markdown")}
+    plots = {name.split("/")[0] for name in series}
+    return Recording(recorded["t"], series, period=float(attrs["dt"]), markers=markers, logs=logs,
+                     documents=documents, view_titles={p: t for p, t in RERUN_PLOTS.items() if p in plots})

@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..analysis.lyapunov import scene_trace
+from ..io.recording import Recording
 from ..model.profiles import ThreePhaseProfile
 from ..model.scene import Scene
 
@@ -44,8 +45,9 @@ def convergence_result(scene: Scene, v20: float) -> tuple[dict, dict]:
     return datasets, attrs
 
 
-def recording_series(result: dict) -> tuple[np.ndarray, dict]:
-    """Times and series of the rerun recording of a convergence result: the two
-    velocities share one view, V has its own."""
+def convergence_recording(result: dict) -> Recording:
+    """The rerun recording of a convergence result: the two velocities share one view, V has
+    its own; period numbers beside the time."""
     d = result["datasets"]
-    return d["t"], {"velocity/v1": d["v1"], "velocity/v2": d["v2"], "lyapunov/V": d["V"]}
+    return Recording(d["t"], {"velocity/v1": d["v1"], "velocity/v2": d["v2"], "lyapunov/V": d["V"]},
+                     period=float(result["attrs"]["dt"]))
