@@ -7,16 +7,16 @@ import subprocess
 import sys
 import tomllib
 from importlib import import_module
-from pathlib import Path
 
 import pytest
+from conftest import REPO as REPO_PATH
 
 import selfalign as sa
 from selfalign.io.hdf5 import read_h5
 
 pytest.importorskip("click", reason="the command line needs click (pip install -e '.[test]')")
 
-REPO = str(Path(__file__).resolve().parents[1])
+REPO = str(REPO_PATH)
 SCENES = os.path.join(REPO, "workflow", "scenes")
 FIG18 = ["--dt", "1.05", "--dy", "0.084", "--y2", "2.2", "--y3", "0.9"]
 CASE4 = ["--dt", "1.0", "--dy", "0.084", "--y2", "1.4", "--y3", "1.3"]  # fig09_case4.yaml: slip-slip

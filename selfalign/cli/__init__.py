@@ -13,8 +13,8 @@ import sys
 def main(argv: list[str] | None = None) -> None:
     """Run the command line on ``argv`` (default ``sys.argv[1:]``) and exit with its code.
 
-    Exit codes: 0 success, 1 ``check`` found problems, 2 bad usage or bad input (one
-    line on stderr; ``--debug`` adds the traceback).
+    Exit codes: 0 success; 1 ``check`` found problems or ``simulate``'s run ended in status
+    error; 2 bad usage or bad input (one line on stderr; ``--debug`` adds the traceback).
     """
     try:
         import click

@@ -195,6 +195,12 @@ def to_dimensionless(si: SIScale | None, **values: float) -> dict[str, float]:
     return {key: si.to_dimensionless(value, KINDS[key]) if si else value for key, value in values.items()}
 
 
+def three_phase_profile(dt, dy, y2, y3, si) -> tuple[ThreePhaseProfile, SIScale | None]:
+    """The dimensionless profile of the --dt --dy --y2 --y3 options and the --si scale (None without)."""
+    scale = SIScale(*si) if si else None
+    return ThreePhaseProfile(**to_dimensionless(scale, dt=dt, dy=dy, y2=y2, y3=y3)), scale
+
+
 def finite_or_none(value):
     """JSON has no NaN or infinity: null stands for them (e.g. f where vbar = 0)."""
     if isinstance(value, list):
@@ -227,8 +233,7 @@ def steady_state_command(dt, dy, y2, y3, si, as_json) -> None:
     """Steady state of the three-phase profile (Sect. 4.4.3) on a uniform surface: case of Table 1
     (Sect. 5.1), vbar (eq. 10), f = 1 / (c vbar^2) (eq. 11, c = 1e4), the motion's phases and the
     Floquet multipliers (Sect. 6.1)."""
-    scale = SIScale(*si) if si else None
-    profile = ThreePhaseProfile(**to_dimensionless(scale, dt=dt, dy=dy, y2=y2, y3=y3))
+    profile, scale = three_phase_profile(dt, dy, y2, y3, si)
     state = asdict(steady_state(profile))
     case = classify(profile)
     stability = floquet(profile)
@@ -256,8 +261,7 @@ def positioning_command(dt, dy, y2, y3, si, w, c_mu, n_entries, offset, max_peri
     """Positioning accuracy of one three-phase profile entering a stop zone (Sect. 7.1-7.2, one
     point of Fig. 17, the entries of Fig. 18): Delta_x_d (eq. 39), x_d, x_stick_min (eq. 41)
     and the fractions of entries that accumulate, stop, never stop or stay undecided."""
-    scale = SIScale(*si) if si else None
-    profile = ThreePhaseProfile(**to_dimensionless(scale, dt=dt, dy=dy, y2=y2, y3=y3))
+    profile, scale = three_phase_profile(dt, dy, y2, y3, si)
     result = positioning(profile, w=to_dimensionless(scale, w=w)["w"], c_mu=c_mu, n_entries=n_entries,
                          offset=offset, max_periods=max_periods)
     scalars = ("case", "vbar", "v0", "x_mu", "x_stick_min", "overshoot_min", "overshoot_max", "dx_d", "x_d",
