@@ -20,6 +20,7 @@ ALLOWED = {
     "io": {"model", "solvers"},
     "plots": {"model", "solvers", "analysis", "io"},
     "stages": {"model", "solvers", "analysis", "io", "plots"},
+    "cli": {"model", "solvers", "analysis", "io"},
 }
 #: Third-party library -> the layers that may import it.
 THIRD_PARTY = {
@@ -29,6 +30,7 @@ THIRD_PARTY = {
     "rerun": {"io"},
     "snakemake": set(),
     "scipy": {"solvers", "analysis"},
+    "click": {"cli"},
 }
 
 

@@ -1,0 +1,5 @@
+"""``python -m selfalign``: the command line (:mod:`selfalign.cli`)."""
+
+from selfalign.cli import main
+
+main()
