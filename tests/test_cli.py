@@ -38,7 +38,7 @@ def scene(name):
 
 def test_simulate_writes_the_library_result(tmp_path):
     """simulate -o writes an HDF5 result whose x_end, status and method are selfalign.simulate's,
-    and --rerun writes a recording of the recorded series."""
+    and --rerun writes the recording the workflow writes of that result (series, events, scene)."""
     out, rrd = tmp_path / "run.h5", tmp_path / "run.rrd"
     proc = run("simulate", scene("stop_zone"), "-o", str(out), "--rerun", str(rrd))
     assert proc.returncode == 0, proc.stderr
@@ -47,7 +47,10 @@ def test_simulate_writes_the_library_result(tmp_path):
     assert attrs["x_end"] == expected.x_end
     assert (attrs["status"], attrs["method"]) == (expected.status.value, expected.method)
     assert "status accumulation" in proc.stdout and repr(expected.x_end)[:6] in proc.stdout
-    assert rrd.stat().st_size > 0
+    from selfalign.io.recording import read_documents, read_logs
+
+    assert len(read_logs(rrd)["events"].texts) == len(read_h5(out)["groups"]["events"]["datasets"]["t"])
+    assert "stop_zone" in read_documents(rrd)["scene"]
 
 
 def test_simulate_method_and_periods_override_the_scene(tmp_path):

@@ -12,10 +12,8 @@ import pytest
 
 #: Importable names of the extras' libraries (distributions rerun-sdk, snakemake-executor-plugin-slurm, ...).
 EXTRA_MODULES = ("snakemake", "snakemake_executor_plugin_slurm", "matplotlib", "rerun", "click")
-#: The layers the core install must run, and the one io module that belongs to an extra.
+#: The layers the core install must run.
 CORE_LAYERS = ("model", "solvers", "analysis", "io")
-NOT_CORE = {"selfalign.io.recording"}
-
 #: Prepended to every subprocess: a meta-path finder that refuses the extras' modules, as if the
 #: core install had left them out (the shared venv has them installed).
 REFUSE_EXTRAS = textwrap.dedent(f"""
@@ -43,9 +41,8 @@ CORE_RUN = textwrap.dedent(f"""
         package = import_module(f"selfalign.{{layer}}")
         imported.append(package.__name__)
         for info in pkgutil.walk_packages(package.__path__, f"{{package.__name__}}."):
-            if info.name not in {sorted(NOT_CORE)!r}:
-                import_module(info.name)
-                imported.append(info.name)
+            import_module(info.name)
+            imported.append(info.name)
 
     scene = sa.load_scene("workflow/scenes/stop_zone.yaml")
     traj = sa.simulate(scene)
@@ -77,26 +74,28 @@ def run_without_extras(repo, code):
 
 def test_core_layers_import_and_run_without_extras(repo):
     """With matplotlib, rerun, Snakemake and click unimportable, every module of model, solvers,
-    analysis and io (but io.recording) imports, and simulate, simulate_batch, steady_state,
-    floquet, classify, positioning and an HDF5 round trip of a workflow scene run: a top-level or
-    core-path import of an extra fails this test."""
+    analysis and io imports (io.recording too: only reading or writing a recording needs rerun),
+    and simulate, simulate_batch, steady_state, floquet, classify, positioning and an HDF5 round
+    trip of a workflow scene run: a top-level or core-path import of an extra fails this test."""
     proc = run_without_extras(repo, CORE_RUN)
     assert proc.returncode == 0, proc.stderr
     on_disk = {".".join(p.relative_to(repo).with_suffix("").parts).removesuffix(".__init__")
                for layer in CORE_LAYERS for p in (repo / "selfalign" / layer).rglob("*.py")}
-    assert set(proc.stdout.split()) == on_disk - NOT_CORE
+    assert set(proc.stdout.split()) == on_disk
 
 
-@pytest.mark.parametrize("module, message", [
-    ("selfalign.plots", "selfalign.plots needs matplotlib"),
-    ("selfalign.plots.classification", "selfalign.plots needs matplotlib"),
-    ("selfalign.stages.figures", "selfalign.plots needs matplotlib"),
-    ("selfalign.io.recording", "selfalign.io.recording needs rerun"),
+@pytest.mark.parametrize("code, message", [
+    ("import selfalign.plots", "selfalign.plots needs matplotlib"),
+    ("import selfalign.plots.classification", "selfalign.plots needs matplotlib"),
+    ("import selfalign.stages.figures", "selfalign.plots needs matplotlib"),
+    ("from selfalign.io.recording import read_recording; read_recording('none.rrd')",
+     "reading a rerun recording needs rerun"),
 ])
-def test_layers_of_an_extra_name_it(repo, module, message):
-    """Importing a module that needs an extra the install lacks fails with one ImportError that
-    names the extra to install (which also shows that the refusing finder takes effect)."""
-    proc = run_without_extras(repo, f"import {module}")
+def test_layers_of_an_extra_name_it(repo, code, message):
+    """Importing a module that needs an extra the install lacks (or, for recordings, whose content
+    types are core, reading or writing one) fails with one ImportError that names the extra to
+    install (which also shows that the refusing finder takes effect)."""
+    proc = run_without_extras(repo, code)
     extra = "rerun" if "rerun" in message else "plots"
     assert proc.stderr.splitlines()[-1] == (f"ImportError: {message}, which the core install leaves out: "
                                             f"pip install 'selfalign[{extra}]'"), proc.stderr

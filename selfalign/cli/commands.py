@@ -25,7 +25,7 @@ from ..analysis.steady_state import steady_state
 from ..io.hdf5 import write_h5
 from ..io.recording import write_recording
 from ..io.scene_files import load_scene
-from ..io.simulation_result import rerun_series, trajectory_content
+from ..io.simulation_result import simulation_recording, trajectory_content
 from ..model.friction import Uniform
 from ..model.profiles import ThreePhaseProfile
 from ..model.scene import METHODS, Scene
@@ -115,11 +115,12 @@ def simulate(scene_file: Path, output: Path | None, method: str | None, periods:
         raise ValueError(f"{scene_file}: --rerun needs recorded series; add record.series to the scene")
     traj = simulate_scene(scene)
     click.echo(summary(scene, traj))
+    content = trajectory_content(traj, scene)
     if output is not None:
-        write_h5(output, *trajectory_content(traj, scene))
+        write_h5(output, *content)
         click.echo(f"wrote {output}")
     if rerun_file is not None:
-        write_recording(rerun_file, *rerun_series(traj))
+        write_recording(rerun_file, simulation_recording(dict(zip(("datasets", "attrs", "groups"), content))))
         click.echo(f"wrote {rerun_file}")
     return 0 if traj.success else 1
 

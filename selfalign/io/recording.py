@@ -24,8 +24,6 @@ import numpy as np
 from ..model.errors import require_extra
 from .hdf5 import atomic_path
 
-require_extra("rerun", "rerun", "selfalign.io.recording")
-
 #: Entity names: path segments rerun needs no escaping for, joined by "/".
 _NAME = re.compile(r"[A-Za-z0-9_.\-]+(/[A-Za-z0-9_.\-]+)*")
 _SCALARS = "Scalars:scalars"
@@ -169,6 +167,7 @@ def write_recording(path, recording: Recording) -> Path:
     Series and markers are sent as columns (no per-sample Python loop); the recording id is
     :func:`content_id`.
     """
+    require_extra("rerun", "rerun", "writing a rerun recording")
     import rerun as rr
 
     if not isinstance(recording, Recording):
@@ -226,6 +225,7 @@ def content_id(recording: Recording) -> uuid.UUID:
 
 
 def _chunks(path):
+    require_extra("rerun", "rerun", "reading a rerun recording")
     from rerun.chunk import RrdReader
 
     return RrdReader(path).store().stream().to_chunks()
