@@ -11,6 +11,7 @@ import pytest
 from selfalign import progress as progress_module
 from selfalign.analysis import positioning as positioning_module
 from selfalign.analysis.accuracy import StudySettings, study
+from selfalign.analysis.fourier_design import optimise_fourier
 from selfalign.analysis.positioning import positioning_grid
 from selfalign.analysis.sqp import minimise
 from selfalign.analysis.steady_simulation import three_phase_simulated_steady_state
@@ -178,6 +179,17 @@ def test_sqp_calls_back_after_every_iteration():
                       callback=lambda x, f: seen.append(f))
     assert result.iterations > 1
     assert seen == result.history[1:].tolist()
+
+
+def test_fourier_optimisation_logs_each_iteration_with_its_f(monkeypatch, caplog):
+    """The Fig. 6 optimisation logs one line per SQP iteration whose f is the one it records in
+    history_f after that iteration, then a final line."""
+    caplog.set_level(logging.INFO, logger="selfalign.progress")
+    monkeypatch.setattr(progress_module, "LOG_INTERVAL", 0.0)
+    opt = optimise_fourier(0.072, 0.021, 3.2, 1275.0, order=3, max_iter=3, progress="log")
+    lines = progress_lines(caplog)
+    assert len(lines) == opt.iterations + 1
+    assert [line.rsplit("f = ", 1)[1] for line in lines[:-1]] == [f"{f:.6g}" for f in opt.history_f[1:]]
 
 
 def test_accuracy_study_reports_every_run(monkeypatch, caplog):
