@@ -6,6 +6,7 @@ included, since lazy imports are imports too), so the test needs no import side 
 """
 
 import ast
+import sys
 from pathlib import Path
 
 import pytest
@@ -32,6 +33,9 @@ THIRD_PARTY = {
     "scipy": {"solvers", "analysis"},
     "click": {"cli"},
 }
+#: Modules at the package's top level below every layer: any layer may import them, and they
+#: import nothing of the package and no third-party library (progress reporting of long loops).
+FOUNDATION = {"selfalign.progress"}
 
 
 def imports(source: str, package: str) -> list[tuple[str, int]]:
@@ -62,7 +66,7 @@ def violations(layer: str, found: list[tuple[str, int]]) -> list[str]:
     bad = []
     for name, line in found:
         top = name.split(".")
-        if name == "selfalign.__version__":
+        if name == "selfalign.__version__" or any(name == m or name.startswith(m + ".") for m in FOUNDATION):
             continue
         if top[0] == "selfalign":
             if len(top) == 1 or top[1] not in ALLOWED:
@@ -91,6 +95,17 @@ def test_layer_imports_only_layers_below(path):
     assert not bad, f"{path.relative_to(PACKAGE)} imports across layers:\n" + "\n".join(bad)
 
 
+@pytest.mark.parametrize("module", sorted(FOUNDATION))
+def test_foundation_modules_import_only_the_standard_library(module):
+    """A module every layer may import stays below all of them: it imports no part of the package
+    and no third-party library (not even numpy), so importing it never drags a layer in."""
+    path = PACKAGE.parent.joinpath(*module.split(".")).with_suffix(".py")
+    found = [name for name, _ in imports(path.read_text(), "selfalign")]
+    assert found, f"{module} imports nothing, so this test would not see a bad import"
+    bad = [name for name in found if name.split(".")[0] not in sys.stdlib_module_names | {"__future__"}]
+    assert not bad, f"{module} imports beyond the standard library: {bad}"
+
+
 def test_the_check_can_fail():
     """A relative, a lazy (function-level) and an absolute import upward are all caught, and a
     third-party library outside its layer too."""
@@ -100,3 +115,4 @@ def test_the_check_can_fail():
     assert [name for name, _ in found] == ["selfalign.solvers", "selfalign.analysis", "matplotlib"]
     assert len(violations("model", found)) == 3
     assert violations("stages", found[:2]) == []
+    assert violations("model", imports("from ..progress import Progress\n", "selfalign.model")) == []

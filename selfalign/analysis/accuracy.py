@@ -51,6 +51,7 @@ from dataclasses import asdict, dataclass
 import numpy as np
 
 from ..model.scene import Record, Scene
+from ..progress import Progress, resolve_mode
 from ..solvers.driver import simulate
 
 #: Double-precision unit roundoff scale used for the rounding levels.
@@ -201,7 +202,8 @@ def _table(runs: list[Run], ref: Run) -> dict[str, np.ndarray]:
     }
 
 
-def study(scene: Scene, settings: StudySettings = StudySettings()) -> tuple[dict, dict, dict]:
+def study(scene: Scene, settings: StudySettings = StudySettings(), *, progress: str = "auto"
+          ) -> tuple[dict, dict, dict]:
     """Run the work-precision study of ``scene``: (datasets, attrs, groups) for :func:`write_h5`.
 
     Layout: root attributes with the derived numbers (``moreau_order`` with its
@@ -216,27 +218,36 @@ def study(scene: Scene, settings: StudySettings = StudySettings()) -> tuple[dict
     columns; group ``ivp`` with ``rtol``, ``atol`` and the same columns; group
     ``exact`` with attributes ``cpu_time``, ``x_end``, ``vbar``, ``steps``,
     ``events``, ``status``, ``fast_forward_periods``, ``events_run_events``,
-    ``events_run_cpu_time``.
+    ``events_run_cpu_time``.  ``progress`` reports the runs (:mod:`selfalign.progress`); it is
+    called between the timed calls, never inside one.
     """
     import yaml
 
     _check_scene(scene)
+    resolve_mode(progress)
     dt = float(scene.profile.dt)
-    _warm_up(scene)
-
-    ref = timed_run(scene, "exact", {}, settings.min_timing)
     steps_per_period = settings.steps_per_period()
-    moreau = [timed_run(scene, "moreau", {"h": dt / int(n)}, settings.min_timing) for n in steps_per_period]
     rtols = settings.rtols()
     atols = settings.ivp_atol_factor * rtols
-    ivp = [timed_run(scene, "ivp", {"rtol": float(r), "atol": float(a)}, settings.min_timing)
-           for r, a in zip(rtols, atols)]
+    with Progress(2 + steps_per_period.size + rtols.size, f"accuracy study of {scene.name}", unit="runs",
+                  mode=progress) as bar:
+        _warm_up(scene)
 
-    # Events per second of the exact solver computing every event (the event log switches
-    # its steady-state fast-forward off); best of repeats like every other timing.
-    logged = scene.replace(record=Record(events=True))
-    traj, best = best_time(lambda: simulate(logged, "exact"), settings.min_timing)
-    events_run = int(traj.stats["events"])
+        def run(method: str, options: dict, note: str) -> Run:
+            result = timed_run(scene, method, options, settings.min_timing)
+            bar.advance(note=note)
+            return result
+
+        ref = run("exact", {}, "exact")
+        moreau = [run("moreau", {"h": dt / int(n)}, f"Moreau h = dt/{int(n)}") for n in steps_per_period]
+        ivp = [run("ivp", {"rtol": float(r), "atol": float(a)}, f"ivp rtol = {r:.0e}") for r, a in zip(rtols, atols)]
+
+        # Events per second of the exact solver computing every event (the event log switches
+        # its steady-state fast-forward off); best of repeats like every other timing.
+        logged = scene.replace(record=Record(events=True))
+        traj, best = best_time(lambda: simulate(logged, "exact"), settings.min_timing)
+        events_run = int(traj.stats["events"])
+        bar.advance(note="exact with every event")
 
     level_x = 4.0 * _EPS * max(abs(scene.x0), abs(ref.x_end), abs(ref.x_prev))
     level_v = 2.0 * level_x / dt

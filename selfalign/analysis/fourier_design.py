@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..model.profiles import FourierProfile, PolynomialProfile, ThreePhaseProfile, three_phase_times
+from ..progress import Progress, resolve_mode
 from .classification import decision_quantities
 from .sqp import dot, minimise
 from .steady_simulation import SimulatedSteadyState, exact_steady_state, objective, run_periods
@@ -104,7 +105,7 @@ def harmonic_rows(dt: float, dy: float, order: int, samples: int) -> tuple[np.nd
 def optimise_fourier(dt: float, dy: float, yd_max: float, ydd_max: float, *, order: int = 12,
                      max_iter: int = 40, samples: int | None = None, fd_step: float = 1e-9,
                      first_step: float = 0.02, min_step: float = 1e-9,
-                     forward_fraction: float = 0.8) -> FourierOptimum:
+                     forward_fraction: float = 0.8, progress: str = "auto") -> FourierOptimum:
     """Fig. 6 (Sect. 4.4.2): maximise vbar (i.e. minimise f, eq. 11) over the Fourier
     coefficients of y, by the BLAS-free SQP of :mod:`selfalign.analysis.sqp`.
 
@@ -125,7 +126,8 @@ def optimise_fourier(dt: float, dy: float, yd_max: float, ydd_max: float, *, ord
     time-averaged vbar.  Start: :func:`fourier_start`, scaled down if needed to meet
     the velocity and acceleration bounds.  The first step has length ``first_step`` in
     z; the optimiser stops at a first-order point or a kink, when a step is shorter
-    than ``min_step``, or after ``max_iter`` iterations.
+    than ``min_step``, or after ``max_iter`` iterations.  ``progress`` reports the iterations
+    and f (:mod:`selfalign.progress`; ``max_iter`` is the total, the optimiser usually stops before).
 
     Every operation on the path is elementwise numpy, Python floats or the compiled exact
     solver, never BLAS or LAPACK, so the optimum is the same bits under every BLAS kernel
@@ -139,6 +141,7 @@ def optimise_fourier(dt: float, dy: float, yd_max: float, ydd_max: float, *, ord
         raise ValueError(f"order must be an integer >= 1, got {order!r}")
     if isinstance(max_iter, bool) or not isinstance(max_iter, int) or max_iter < 1:
         raise ValueError(f"max_iter must be an integer >= 1, got {max_iter!r}")
+    resolve_mode(progress)
     samples = 64 * (order + 1) if samples is None else int(samples)
     start_time = time.perf_counter()
     start = fourier_start(dt, dy, order, forward_fraction)
@@ -166,9 +169,11 @@ def optimise_fourier(dt: float, dy: float, yd_max: float, ydd_max: float, *, ord
     fit = min(1.0, yd_max / float(np.max(np.abs(dot(vel, coeffs)))),
               ydd_max / float(np.max(np.abs(dot(acc, coeffs)))))
     z0 = np.concatenate([fit * coeffs, [float(np.min(dot(pos, fit * coeffs)))]])
-    result = minimise(lambda z: -float(steady(z).vbar[0]),
-                      lambda z: -steady_vbar_gradient(profile_of, z, steady(z), n_coef, fd_step),
-                      z0, A, b, first_step=first_step, min_step=min_step, max_iter=max_iter)
+    with Progress(max_iter, "Fourier optimisation", unit="iterations", mode=progress) as bar:
+        result = minimise(lambda z: -float(steady(z).vbar[0]),
+                          lambda z: -steady_vbar_gradient(profile_of, z, steady(z), n_coef, fd_step),
+                          z0, A, b, first_step=first_step, min_step=min_step, max_iter=max_iter,
+                          callback=lambda z, f: bar.advance(note=f"f = {float(objective(-f)):.6g}"))
     best = profile_of(result.x)
     final = steady(result.x)
     vbar = float(final.vbar[0])

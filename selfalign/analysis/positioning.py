@@ -39,6 +39,7 @@ first stick in the zone, and as the number of zone sticks before the level
 from __future__ import annotations
 
 from concurrent.futures import ProcessPoolExecutor
+from contextlib import nullcontext
 from dataclasses import dataclass
 
 import numpy as np
@@ -46,6 +47,7 @@ import numpy as np
 from ..model.errors import check_finite, check_positive
 from ..model.friction import StopZone
 from ..model.profiles import ThreePhaseProfile, three_phase_times
+from ..progress import Progress, resolve_mode
 from ..solvers.driver import ProfileTable, simulate_batch
 from ..solvers.exact import piecewise_rows
 from ..solvers.outcomes import STATUS_CODES, Status
@@ -54,8 +56,10 @@ from .classification import check_parameters
 from .steady_state import steady_state_grid
 from .stick_map import stick_map, stick_map_validity
 
-#: Members per call of the batched solver (bounds the memory of a grid run).
-CHUNK_MEMBERS = 262_144
+#: Members per call of the batched solver: bounds the memory of a grid run and sets how often it
+#: reports progress (~0.3 s of work per call at 64 entries; members are independent, so the size
+#: does not change a bit of the results).
+CHUNK_MEMBERS = 16_384
 #: Default period budget: runs without an outcome by then are reported undecided.
 MAX_PERIODS = 1000
 
@@ -128,8 +132,9 @@ def _run_chunk(args):
     }
 
 
-def _simulate_settings(dt, dy, y2, y3, w, c_mu, n_entries, offset, max_periods, tol, levels, processes):
-    """Steady state and entry runs for flat setting arrays; entry results for the moving ones."""
+def _simulate_settings(dt, dy, y2, y3, w, c_mu, n_entries, offset, max_periods, tol, levels, processes, progress):
+    """Steady state and entry runs for flat setting arrays; entry results for the moving ones,
+    reporting progress (:class:`selfalign.progress.Progress` mode ``progress``) per chunk."""
     ss = steady_state_grid(dt, dy, y2, y3)
     moving = (ss.case > 0) & (ss.vbar > 0)
     idx = np.flatnonzero(moving)
@@ -139,11 +144,13 @@ def _simulate_settings(dt, dy, y2, y3, w, c_mu, n_entries, offset, max_periods, 
         parts = np.array_split(idx, processes)
     jobs = [(dt[p], dy[p], y2[p], y3[p], ss.v0[p], ss.vbar[p], w, c_mu, n_entries, offset, max_periods, tol,
              levels) for p in parts]
-    if processes > 1 and len(jobs) > 1:
-        with ProcessPoolExecutor(max_workers=processes) as pool:
-            outs = list(pool.map(_run_chunk, jobs))
-    else:
-        outs = [_run_chunk(job) for job in jobs]
+    parallel = processes > 1 and len(jobs) > 1
+    outs = []
+    with (ProcessPoolExecutor(max_workers=processes) if parallel else nullcontext()) as pool, \
+            Progress(int(idx.size), "positioning grid", unit="settings", mode=progress) as bar:
+        for part, out in zip(parts, (pool.map if parallel else map)(_run_chunk, jobs)):
+            outs.append(out)
+            bar.advance(int(part.size))
     if outs:
         runs = {key: np.concatenate([o[key] for o in outs]) for key in outs[0]}
     else:
@@ -240,7 +247,7 @@ def _positioning(profile, w, c_mu, n_entries, offset, max_periods, accumulation_
     _check_zone(w, c_mu, n_entries, offset, max_periods)
     arrays = [np.array([v]) for v in (profile.dt, profile.dy, profile.y2, profile.y3)]
     ss, idx, runs = _simulate_settings(*arrays, float(w), float(c_mu), int(n_entries), float(offset),
-                                       int(max_periods), float(accumulation_tol), levels, 1)
+                                       int(max_periods), float(accumulation_tol), levels, 1, "quiet")
     if idx.size == 0:
         raise ValueError(f"the steady state of {profile!r} does not move forward (vbar = {float(ss.vbar[0])!r}, "
                          f"case {int(ss.case[0])}): the mass never reaches the zone")
@@ -306,21 +313,23 @@ class PositioningGrid:
 
 def positioning_grid(dt, dy, y2, y3, *, w: float, c_mu: float, n_entries: int = 64, offset: float = 0.5,
                      max_periods: int = MAX_PERIODS, accumulation_tol: float = 1e-12, levels=(),
-                     processes: int = 1) -> PositioningGrid:
+                     processes: int = 1, progress: str = "auto") -> PositioningGrid:
     """:func:`positioning` for broadcast arrays of (dt, dy, y2, y3) with the batched solver.
 
     ``levels``: fractions p in (0, 1) for the accumulation speed; ``processes``
-    > 1 splits the settings over that many worker processes.
+    > 1 splits the settings over that many worker processes.  ``progress``: how the
+    settings done are reported (:mod:`selfalign.progress`: "auto", "bar", "log", "quiet").
     """
     _check_zone(w, c_mu, n_entries, offset, max_periods)
     levels = _check_levels(levels) if np.size(levels) else np.empty(0)
     if int(processes) != processes or processes < 1:
         raise ValueError(f"processes must be an integer >= 1, got {processes!r}")
+    resolve_mode(progress)
     arrays = check_parameters(dt, dy, y2, y3)
     shape = arrays[0].shape
     flat = [a.ravel() for a in arrays]
     ss, idx, runs = _simulate_settings(*flat, float(w), float(c_mu), int(n_entries), float(offset),
-                                       int(max_periods), float(accumulation_tol), levels, int(processes))
+                                       int(max_periods), float(accumulation_tol), levels, int(processes), progress)
     size, nl = flat[0].size, levels.size
 
     def scatter(values, extra=()):

@@ -179,7 +179,7 @@ class SQPResult:
 
 
 def minimise(fun, grad, x0: np.ndarray, A: np.ndarray, b: np.ndarray, *, first_step: float, min_step: float,
-             max_iter: int) -> SQPResult:
+             max_iter: int, callback=None) -> SQPResult:
     """Minimise ``fun`` subject to A x <= b from the feasible ``x0`` (module docstring).
 
     ``grad(x)`` is the gradient of ``fun``.  The initial model Hessian is |grad| /
@@ -188,8 +188,9 @@ def minimise(fun, grad, x0: np.ndarray, A: np.ndarray, b: np.ndarray, *, first_s
     fun(x + alpha d) <= fun(x) + ARMIJO alpha grad.d (at most LINE_SEARCH times).  Stops,
     converged, when the model has no descent direction (a first-order point), when no step
     along d decreases fun (at a kink of a nonsmooth fun), or when the step is shorter than
-    ``min_step`` (max norm); otherwise after ``max_iter`` iterations.  ValueError if x0 is
-    not feasible or an option is out of range.
+    ``min_step`` (max norm); otherwise after ``max_iter`` iterations.  ``callback(x, f)``, if
+    given, is called after every iteration with the new iterate (progress reports).  ValueError
+    if x0 is not feasible or an option is out of range.
     """
     for name, value in (("first_step", first_step), ("min_step", min_step)):
         if not (math.isfinite(value) and value > 0):
@@ -230,6 +231,8 @@ def minimise(fun, grad, x0: np.ndarray, A: np.ndarray, b: np.ndarray, *, first_s
         B = bfgs_update(B, step, g_new - g)
         x, f, g = x + step, f_new, g_new
         history.append(f)
+        if callback is not None:
+            callback(x, f)
         if float(np.max(np.abs(step))) < min_step:
             message, converged = f"step shorter than {min_step:.3g}", True
             break

@@ -55,6 +55,7 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 from ..model.profiles import three_phase_times
+from ..progress import Progress, resolve_mode
 from ..solvers.driver import simulate_batch
 from ..solvers.outcomes import Reason, Status
 from .steady_state import OBJECTIVE_SCALE
@@ -97,21 +98,31 @@ class SimulatedSteadyState:
 
 
 def iterate_to_steady_state(period_map, scale, dt, *, floor=0.0, rtol: float = RTOL,
-                            max_iter: int = 200) -> SimulatedSteadyState:
+                            max_iter: int = 200, progress: str = "auto") -> SimulatedSteadyState:
     """Limit of plain iteration of a batched period map from x'(0) = 0, by bisection (module docstring).
 
     ``period_map(index, v)`` simulates one period for each member ``index[k]``
     from x'(0) = ``v[k]`` at phase 0 and returns the end velocities and the
     displacements.  ``scale`` (the velocity swing s), ``dt`` and ``floor`` (|g|
     counted as zero) are per-member arrays or scalars.  RuntimeError if [-s, s]
-    does not contain the fixed point.
+    does not contain the fixed point.  ``progress`` reports the period-map calls
+    (:mod:`selfalign.progress`); the bracket halves with each, so there are about
+    2 + log2(1 / rtol) of them.
     """
     if not (math.isfinite(rtol) and rtol > 0):
         raise ValueError(f"rtol must be finite and > 0 (bisection stops at a bracket of rtol * s), got {rtol!r}")
+    with Progress(2 + min(max_iter, math.ceil(-math.log2(rtol))), "steady state by bisection",
+                  unit="period maps", mode=progress) as bar:
+        return _bisect(period_map, scale, dt, floor, rtol, max_iter, bar)
+
+
+def _bisect(period_map, scale, dt, floor, rtol, max_iter, bar):
+    """:func:`iterate_to_steady_state` (its docstring), counting every period-map call on ``bar``."""
     scale = np.array(scale, dtype=float)
     dt, floor = (np.broadcast_to(np.asarray(a, dtype=float), scale.shape) for a in (dt, floor))
     members = np.arange(scale.size)
     end, dx = period_map(members, np.zeros(scale.size))
+    bar.advance()
     # Search u = side * v in [0, s]: "reached" means side * g(side * u) <= floor.
     side = np.where(end > 0.0, 1.0, -1.0)
     lo, hi = np.zeros(scale.size), scale.copy()
@@ -121,6 +132,7 @@ def iterate_to_steady_state(period_map, scale, dt, *, floor=0.0, rtol: float = R
     periods = np.ones(scale.size, dtype=np.int64)
     check = members[~at_zero]
     end, dx_hi[check] = period_map(check, side[check] * scale[check])
+    bar.advance()
     periods[check] += 1
     v_hi[check] = side[check] * scale[check]
     g_hi[check] = end - v_hi[check]
@@ -135,6 +147,7 @@ def iterate_to_steady_state(period_map, scale, dt, *, floor=0.0, rtol: float = R
         mid = 0.5 * (lo[active] + hi[active])
         v = side[active] * mid
         end, dx = period_map(active, v)
+        bar.advance(note=f"{active.size} of {scale.size} members bracketing")
         periods[active] += 1
         reached = side[active] * (end - v) <= floor[active]
         lo[active] = np.where(reached, lo[active], mid)
@@ -216,20 +229,27 @@ def _three_phase_period_map(dt, dy, y2, y3):
 
 
 def simulated_steady_state(profiles, method: str = "exact", *, steps_per_period: int = 1000,
-                           iteration: str = "exact", rtol: float = RTOL) -> SimulatedSteadyState:
+                           iteration: str = "exact", rtol: float = RTOL, progress: str = "auto"
+                           ) -> SimulatedSteadyState:
     """Steady state of each profile on a uniform surface by simulation (module docstring).
 
     ``method="exact"``: :func:`exact_steady_state` for each profile;
     ``method="moreau"``: Moreau time-stepping with ``steps_per_period`` steps and
     the implicit step solved by ``iteration`` ("exact" soft threshold or the
     paper's "fixed_point"), all profiles in one batch, iterated to the steady
-    state by :func:`iterate_to_steady_state`.
+    state by :func:`iterate_to_steady_state`.  ``progress``: :mod:`selfalign.progress` mode
+    (profiles done with "exact", bisection steps with "moreau").
     """
     profiles = list(profiles)
     if not profiles:
         raise ValueError("profiles: give at least one profile")
+    resolve_mode(progress)
     if method == "exact":
-        parts = [exact_steady_state(p) for p in profiles]
+        parts = []
+        with Progress(len(profiles), "exact steady states", unit="profiles", mode=progress) as bar:
+            for profile in profiles:
+                parts.append(exact_steady_state(profile))
+                bar.advance()
         return SimulatedSteadyState(*(np.concatenate([getattr(r, f.name) for r in parts])
                                       for f in fields(SimulatedSteadyState)))
     if method != "moreau":
@@ -239,12 +259,15 @@ def simulated_steady_state(profiles, method: str = "exact", *, steps_per_period:
     scale = np.array([p.velocity_swing for p in profiles])
     return iterate_to_steady_state(_moreau_period_map(profiles, steps_per_period, iteration), scale,
                                    np.array([p.dt for p in profiles]), floor=steps_per_period * _EPS * scale,
-                                   rtol=rtol)
+                                   rtol=rtol, progress=progress)
 
 
-def three_phase_simulated_steady_state(dt, dy, y2, y3, *, rtol: float = RTOL) -> SimulatedSteadyState:
+def three_phase_simulated_steady_state(dt, dy, y2, y3, *, rtol: float = RTOL,
+                                       progress: str = "auto") -> SimulatedSteadyState:
     """Simulated steady state of three-phase profiles (broadcast arrays; NaN for case 0) with the
-    batched exact solver and :func:`iterate_to_steady_state`, independent of the closed forms."""
+    batched exact solver and :func:`iterate_to_steady_state` (reporting to ``progress``),
+    independent of the closed forms."""
+    resolve_mode(progress)
     arrays = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (dt, dy, y2, y3)))
     shape = arrays[0].shape
     dt, dy, y2, y3 = (a.ravel() for a in arrays)
@@ -255,7 +278,7 @@ def three_phase_simulated_steady_state(dt, dy, y2, y3, *, rtol: float = RTOL) ->
     if ok.size:
         swing = y2[ok] * (times.t2[ok] - times.t1[ok])   # max y' - min y' (eq. 63)
         res = iterate_to_steady_state(_three_phase_period_map(dt[ok], dy[ok], y2[ok], y3[ok]),
-                                      swing, dt[ok], rtol=rtol)
+                                      swing, dt[ok], rtol=rtol, progress=progress)
         for key in out:
             out[key][ok] = getattr(res, key)
         periods[ok] = res.periods

@@ -33,8 +33,9 @@ FIG17_FIELDS = ("case", "vbar", "f", "dx_d", "frac_accumulate", "frac_stop", "fr
 
 
 def fig17_shard(y2, y3, rows: slice, *, dt: float, dy: float, w: float, c_mu: float, n_entries: int,
-                max_periods: int = MAX_PERIODS, levels=(0.99, 0.999), processes: int = 1):
-    """Datasets and attributes of one shard of the Fig. 17 sweep: the rows ``y2[rows]`` x all of ``y3``.
+                max_periods: int = MAX_PERIODS, levels=(0.99, 0.999), processes: int = 1, progress: str = "auto"):
+    """Datasets and attributes of one shard of the Fig. 17 sweep: the rows ``y2[rows]`` x all of ``y3``
+    (``progress``: :mod:`selfalign.progress` mode of the settings done).
 
     Datasets: :data:`FIG17_FIELDS` for those rows and ``levels``; attributes: those of
     :func:`fig17_content` (``events`` counted over the shard) plus ``row_start``,
@@ -48,7 +49,7 @@ def fig17_shard(y2, y3, rows: slice, *, dt: float, dy: float, w: float, c_mu: fl
         raise ValueError("y2 and y3 must be 1-D axes of the grid")
     g2, g3 = np.meshgrid(y2[rows], y3, indexing="ij")
     grid = positioning_grid(dt, dy, g2, g3, w=w, c_mu=c_mu, n_entries=n_entries, max_periods=max_periods,
-                            levels=levels, processes=processes)
+                            levels=levels, processes=processes, progress=progress)
     datasets = {name: getattr(grid, name) for name in FIG17_FIELDS + ("levels",)}
     start, stop, step = rows.indices(y2.size)
     attrs = {"dt": float(dt), "dy": float(dy), "w": float(w), "c_mu": float(c_mu), "n_entries": int(n_entries),
@@ -89,7 +90,8 @@ def gather_fig17(y2, y3, shards: list[dict]):
 
 
 def fig17_content(y2, y3, *, dt: float, dy: float, w: float, c_mu: float, n_entries: int,
-                  max_periods: int = MAX_PERIODS, levels=(0.99, 0.999), processes: int = 1):
+                  max_periods: int = MAX_PERIODS, levels=(0.99, 0.999), processes: int = 1,
+                  progress: str = "auto"):
     """Datasets and attributes of ``results/accumulation/fig17.h5`` (Fig. 17, Sect. 7.2), in one piece.
 
     1-D ``y2``, ``y3``; 2-D [i_y2, i_y3]: ``case``, ``vbar``, ``f`` (steady state),
@@ -103,7 +105,8 @@ def fig17_content(y2, y3, *, dt: float, dy: float, w: float, c_mu: float, n_entr
     """
     y2 = np.asarray(y2, dtype=float)
     datasets, attrs = fig17_shard(y2, y3, slice(0, y2.size), dt=dt, dy=dy, w=w, c_mu=c_mu, n_entries=n_entries,
-                                  max_periods=max_periods, levels=levels, processes=processes)
+                                  max_periods=max_periods, levels=levels, processes=processes,
+                                  progress=progress)
     return gather_fig17(y2, y3, [{"datasets": datasets, "attrs": attrs}])
 
 

@@ -41,17 +41,19 @@ VERIFY_BAND = 1e-3
 MAP_FIELDS = ("case", "vbar", "f", "vbar_simulated")
 
 
-def map_shard(dt: float, dy: float, y2, y3, rows: slice, *, simulate: bool = True, rtol: float = RTOL) -> dict:
+def map_shard(dt: float, dy: float, y2, y3, rows: slice, *, simulate: bool = True, rtol: float = RTOL,
+              progress: str = "auto") -> dict:
     """The map rows ``y2[rows]`` x all of ``y3``: closed-form ``case``, ``vbar``, ``f``
     (Sect. 5.1, eq. 11) and, with ``simulate``, ``vbar_simulated`` (batched exact solver,
-    module docstring).  Every entry depends only on its own (y2, y3), so shards
-    concatenate to the whole map bit for bit."""
+    module docstring; ``progress``: :mod:`selfalign.progress` mode of its bisection).  Every
+    entry depends only on its own (y2, y3), so shards concatenate to the whole map bit for bit."""
     y2 = np.asarray(y2, dtype=float)[rows]
     g2, g3 = np.meshgrid(y2, np.asarray(y3, dtype=float), indexing="ij")
     ss = steady_state_grid(dt, dy, g2, g3)
     out = {"case": ss.case.astype(np.int8), "vbar": ss.vbar, "f": ss.f}
     if simulate:
-        out["vbar_simulated"] = three_phase_simulated_steady_state(dt, dy, g2, g3, rtol=rtol).vbar
+        out["vbar_simulated"] = three_phase_simulated_steady_state(dt, dy, g2, g3, rtol=rtol,
+                                                                   progress=progress).vbar
     return out
 
 
@@ -98,16 +100,17 @@ def map_verification(data: dict, attrs: dict) -> dict:
 
 def fig06_results(dt: float, dy: float, yd_max: float, ydd_max: float, *, order: int = 12,
                   max_iter: int = 130, samples_per_period: int = 1000,
-                  motion_periods: int = 3) -> tuple[dict, dict, FourierOptimum]:
+                  motion_periods: int = 3, progress: str = "auto") -> tuple[dict, dict, FourierOptimum]:
     """Datasets and attributes of ``results/classification/fig06.h5`` (README), and the
     optimisation result itself.
 
     The optimised profile is time-shifted to match the best three-phase profile
     (:func:`align_to`; the steady state does not depend on the phase).  Profile
     samples cover one period, with y shifted to zero mean (the three-phase y has
-    min y = 0); the mass motion covers ``motion_periods`` steady periods.
+    min y = 0); the mass motion covers ``motion_periods`` steady periods.  ``progress``: the
+    optimiser's iterations (:mod:`selfalign.progress` mode).
     """
-    opt = optimise_fourier(dt, dy, yd_max, ydd_max, order=order, max_iter=max_iter)
+    opt = optimise_fourier(dt, dy, yd_max, ydd_max, order=order, max_iter=max_iter, progress=progress)
     three = best_three_phase(dt, dy, ydd_max, yd_max)
     ss3 = steady_state_grid(dt, dy, three.y2, three.y3)
     best = align_to(opt.profile, three)
@@ -146,7 +149,7 @@ def fig06_mass_displacement(result: dict) -> dict:
 
 
 def polynomial_sweep(dt, dy, *, forward_fraction: float = 0.8, steps_per_period: int = 1000,
-                     iteration: str = "exact", rtol: float = RTOL) -> tuple[dict, dict]:
+                     iteration: str = "exact", rtol: float = RTOL, progress: str = "auto") -> tuple[dict, dict]:
     """Figs. 4 and 5: steady state of the polynomial profile (Sect. 4.2) along a sweep.
 
 
@@ -154,7 +157,7 @@ def polynomial_sweep(dt, dy, *, forward_fraction: float = 0.8, steps_per_period:
     array).  Returns datasets ``dt``, ``dy``, and for ``exact`` and ``moreau``:
     ``vbar_*``, ``f_*`` (eq. 11), ``residual_*`` (|x'(dt) - x'(0)| over the
     steady period), ``periods_*`` (periods simulated); and attributes with
-    the settings.
+    the settings.  ``progress``: :mod:`selfalign.progress` mode of each method's loop.
     """
     dt, dy = (np.atleast_1d(a).astype(float) for a in np.broadcast_arrays(dt, dy))
     if dt.ndim != 1:
@@ -163,7 +166,7 @@ def polynomial_sweep(dt, dy, *, forward_fraction: float = 0.8, steps_per_period:
     data = {"dt": dt, "dy": dy}
     for method in ("exact", "moreau"):
         res = simulated_steady_state(profiles, method, steps_per_period=steps_per_period,
-                                     iteration=iteration, rtol=rtol)
+                                     iteration=iteration, rtol=rtol, progress=progress)
         data.update({f"vbar_{method}": res.vbar, f"f_{method}": res.f, f"residual_{method}": res.residual,
                      f"periods_{method}": res.periods})
     attrs = {"forward_fraction": float(forward_fraction), "moreau_steps_per_period": int(steps_per_period),
