@@ -7,12 +7,13 @@ skipped otherwise): only the three table jobs run, nothing is recomputed.
 """
 
 import html
+import io
 import json
 import re
 import shutil
 
 import pytest
-from conftest import copy_workflow, run_snakemake
+from conftest import REPO, copy_workflow, run_snakemake
 
 from selfalign.stages.figures import FIGURES
 from selfalign.stages.tables import TABLES
@@ -93,3 +94,17 @@ def test_tables_hold_every_stability_scene(report):
         table = (work / f"results/tables/{name}.html").read_text(encoding="utf-8")
         for scene in config["stages"]["stability"]["scenes"]:
             assert f"<tr><td>{scene}</td>" in table, (name, scene)
+
+
+@pytest.mark.parametrize("caption", sorted(p.name for p in (REPO / "workflow" / "report").glob("*.rst")))
+def test_captions_are_valid_restructuredtext(caption):
+    """Every caption is reStructuredText that docutils renders without a warning, as the report
+    renders it: a bare |...| in a formula, for instance, is a substitution reference that the report
+    shows as an error.  Needs no results (the report test above does), so CI runs it."""
+    from docutils.core import publish_parts
+
+    text = (REPO / "workflow" / "report" / caption).read_text()
+    text = re.sub(r"\{\{.*?\}\}", "1", text)  # the report fills these in from the config (Jinja2)
+    warnings = io.StringIO()
+    publish_parts(text, writer="html", settings_overrides={"warning_stream": warnings, "report_level": 2})
+    assert warnings.getvalue() == "", warnings.getvalue()
