@@ -15,8 +15,15 @@ from conftest import run_snakemake as snakemake
 import selfalign
 from selfalign import load_scene
 from selfalign.io import quantities
-from selfalign.io.hdf5 import (COMMIT_ATTR, SOURCE_ATTRS, VERSION_ATTR, read_dataset_attrs, read_h5,
-                               source_commit, write_h5)
+from selfalign.io.hdf5 import (
+    COMMIT_ATTR,
+    SOURCE_ATTRS,
+    VERSION_ATTR,
+    read_dataset_attrs,
+    read_h5,
+    source_commit,
+    write_h5,
+)
 from selfalign.solvers.outcomes import EventKind
 from selfalign.stages.trajectory import profile_samples
 
@@ -127,10 +134,10 @@ def writer_scripts(repo: Path) -> dict[str, str]:
     """Rule name -> script for every rule whose script writes a result with write_h5."""
     scripts = {}
     for smk in (repo / "workflow/rules").glob("*.smk"):
-        for rule, script in re.findall(r"^rule (\w+):.*?^    script:\s*\n\s*\"\.\./scripts/(\w+\.py)\"", smk.read_text(),
-                                       flags=re.S | re.M):
-            if "write_h5(" in (repo / "workflow/scripts" / script).read_text():
-                scripts[rule] = script
+        for rule in re.split(r"^rule ", smk.read_text(), flags=re.M)[1:]:
+            script = re.search(r"^    script:\s*\n\s*\"\.\./scripts/(\w+\.py)\"", rule, flags=re.M)
+            if script and "write_h5(" in (repo / "workflow/scripts" / script[1]).read_text():
+                scripts[rule.split(":", 1)[0]] = script[1]
     return scripts
 
 
