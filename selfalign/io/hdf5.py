@@ -146,7 +146,8 @@ def write_h5(path, datasets: dict, attrs: dict | None = None,
 @functools.cache
 def source_commit() -> str:
     """``git rev-parse HEAD`` of the checkout this package runs from, with ``-dirty`` if tracked
-    files differ from it; ``"unknown"`` when the package is not a git checkout (e.g. installed)."""
+    files differ from it; ``"unknown"`` when the package is not a git checkout (e.g. installed).
+    ``--no-optional-locks``: parallel jobs must not race for the index lock."""
     top = Path(__file__).resolve().parents[2]
 
     def git(*args) -> str:
@@ -156,7 +157,7 @@ def source_commit() -> str:
     try:
         if Path(git("rev-parse", "--show-toplevel")).resolve() != top:
             return "unknown"
-        dirty = git("status", "--porcelain", "--untracked-files=no")
+        dirty = git("--no-optional-locks", "status", "--porcelain", "--untracked-files=no")
         return git("rev-parse", "HEAD") + ("-dirty" if dirty else "")
     except (OSError, subprocess.CalledProcessError):
         return "unknown"
