@@ -13,13 +13,14 @@ from selfalign.io.hdf5 import atomic_path, atomic_write, read_h5, write_h5
 
 
 def test_round_trip_datasets_attrs_groups(tmp_path):
+    # Dataset names from the registry (write_h5 refuses others), one per kind of array.
     datasets = {
-        "x": np.linspace(0.0, 1.0, 7).reshape(7, 1),
-        "n": np.arange(5, dtype=np.int32),
-        "flags": np.array([True, False]),
-        "names": np.array(["stick", "slip"]),
-        "scalar": 2.5,
-        "empty": np.zeros(0),
+        "t": np.linspace(0.0, 1.0, 7).reshape(7, 1),
+        "moreau_steps": np.arange(5, dtype=np.int32),
+        "valid": np.array([True, False]),
+        "methods": np.array(["stick", "slip"]),
+        "dt": 2.5,
+        "switch_times": np.zeros(0),
     }
     attrs = {
         "int": 3, "float": 0.25, "str": "exact", "bool": True, "ints": [1, 2, 3], "floats": [0.5, 1.5],
@@ -39,10 +40,11 @@ def test_round_trip_datasets_attrs_groups(tmp_path):
     for name, value in datasets.items():
         assert np.array_equal(got["datasets"][name], np.asarray(value)), name
         assert got["datasets"][name].shape == np.shape(value), name
-    assert got["datasets"]["n"].dtype == np.int32
-    assert got["datasets"]["names"].tolist() == ["stick", "slip"]
+    assert got["datasets"]["moreau_steps"].dtype == np.int32
+    assert got["datasets"]["methods"].tolist() == ["stick", "slip"]
 
-    expected = {**attrs, "tuple": [1, 2], results.VERSION_ATTR: selfalign.__version__}
+    expected = {**attrs, "tuple": [1, 2], results.VERSION_ATTR: selfalign.__version__,
+                results.COMMIT_ATTR: results.source_commit()}
     assert got["attrs"] == expected
     assert all(type(got["attrs"][k]) is type(expected[k]) for k in expected)
 
@@ -89,7 +91,7 @@ def test_version_is_reserved(tmp_path):
 
 @pytest.mark.parametrize("kwargs", [
     {"datasets": {"a/b": [1]}},
-    {"datasets": {"a": [1]}, "groups": {"a": {}}},
+    {"datasets": {"t": [1]}, "groups": {"t": {}}},
     {"datasets": {}, "groups": {"g": {"dataset": {}}}},
 ])
 def test_invalid_layout_is_rejected(tmp_path, kwargs):
@@ -99,14 +101,14 @@ def test_invalid_layout_is_rejected(tmp_path, kwargs):
 
 
 def test_identical_inputs_give_identical_bytes(tmp_path):
-    content = ({"x": np.arange(10.0)}, {"p": {"dt": 1.0}}, {"g": {"datasets": {"y": [1, 2]}}})
+    content = ({"t": np.arange(10.0)}, {"p": {"dt": 1.0}}, {"g": {"datasets": {"y": [1, 2]}}})
     a = write_h5(tmp_path / "a.h5", *content)
     # HDF5 timestamps have one-second resolution: make sure a second boundary passes.
     time.sleep(1.0 - time.time() % 1.0 + 0.01)
     b = write_h5(tmp_path / "b.h5", *content)
     assert a.read_bytes() == b.read_bytes()
     with h5py.File(a) as f:
-        assert h5py.h5o.get_info(f["x"].id).ctime == 0
+        assert h5py.h5o.get_info(f["t"].id).ctime == 0
         assert h5py.h5o.get_info(f["g/y"].id).ctime == 0
 
 
@@ -137,19 +139,19 @@ def test_failed_write_leaves_nothing(tmp_path):
 
 
 def test_failed_write_keeps_existing_file(tmp_path):
-    target = write_h5(tmp_path / "out.h5", {"x": [1.0, 2.0]})
+    target = write_h5(tmp_path / "out.h5", {"t": [1.0, 2.0]})
     before = target.read_bytes()
     with pytest.raises(RuntimeError):
         with atomic_path(target) as tmp:
             _fail_midway(tmp)
     with pytest.raises(TypeError):
-        write_h5(target, {"x": [3.0]}, {"bad": object()})
+        write_h5(target, {"t": [3.0]}, {"bad": object()})
     assert target.read_bytes() == before
     assert [p.name for p in tmp_path.iterdir()] == ["out.h5"]
 
 
 def test_successful_write_replaces_existing_file(tmp_path):
-    target = write_h5(tmp_path / "out.h5", {"x": [1.0]})
-    write_h5(target, {"x": [2.0, 3.0]})
-    assert read_h5(target)["datasets"]["x"].tolist() == [2.0, 3.0]
+    target = write_h5(tmp_path / "out.h5", {"t": [1.0]})
+    write_h5(target, {"t": [2.0, 3.0]})
+    assert read_h5(target)["datasets"]["t"].tolist() == [2.0, 3.0]
     assert [p.name for p in tmp_path.iterdir()] == ["out.h5"]

@@ -32,16 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..model.profiles import ThreePhaseProfile, three_phase_feasibility, three_phase_times
-
-CASE_LABELS = {
-    0: "non-physical profile",
-    1: "stick-slip, x' >= 0",
-    2: "stick-slip, x' <= 0",
-    3: "general stick-slip",
-    4: "slip-slip",
-    5: "pure stick",
-}
+from ..model.profiles import CASE_LABELS, ThreePhaseProfile, three_phase_feasibility, three_phase_times
 
 _OPS = {"<=": operator.le, "<": operator.lt, ">": operator.gt, ">=": operator.ge}
 

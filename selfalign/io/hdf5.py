@@ -12,6 +12,17 @@ recordings use the same guarantee.
 object timestamps are switched off), so that re-running a step with the same
 inputs yields an identical file and content hashes stay meaningful.
 
+Self-description
+----------------
+Every dataset gets the attributes ``units`` and ``description`` (and
+``legend``, code -> name, for coded values; ``si_units`` and ``si_factor``
+when the file's scene has an SI scale) from :mod:`selfalign.io.quantities`;
+a dataset not documented there is refused.  Every file gets the provenance
+root attributes ``selfalign_version``, ``git_commit`` (:func:`source_commit`)
+and the input that made it: the root attribute ``scene`` (YAML text, set by
+the builders of scene-based results) or ``config`` (YAML text of the
+``config`` argument, for results built from workflow settings).
+
 Attribute encoding
 ------------------
 Numbers, strings, bools and non-empty lists of numbers (all ints that fit in
@@ -27,20 +38,29 @@ and numpy arrays come back as lists.
 
 from __future__ import annotations
 
+import functools
 import json
 import os
 import secrets
+import subprocess
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
 import h5py
 import numpy as np
+import yaml
+
+from ..model.units import SIScale
+from .quantities import quantity
 
 #: Prefix of attribute strings that hold a JSON-encoded value.
 JSON_PREFIX = "json:"
-#: Root attribute stamped on every file by :func:`write_h5`.
+#: Root attributes stamped on every file by :func:`write_h5`: package version and source commit.
 VERSION_ATTR = "selfalign_version"
+COMMIT_ATTR = "git_commit"
+#: Root attributes naming what a file was made from (one of them is present in every result).
+SOURCE_ATTRS = ("scene", "config")
 
 _INT64 = np.iinfo(np.int64)
 _GROUP_KEYS = {"datasets", "attrs", "groups"}
@@ -89,50 +109,96 @@ def _fsync(path: Path) -> None:
 
 
 def write_h5(path, datasets: dict, attrs: dict | None = None,
-             groups: dict[str, dict] | None = None) -> Path:
+             groups: dict[str, dict] | None = None, *, config: dict | None = None) -> Path:
     """Write an HDF5 file atomically and deterministically.
 
     ``datasets`` maps names to array-likes (stored at the root), ``attrs``
     holds root attributes (encoded as described in the module docstring) and
     ``groups`` maps group names to dicts with the optional keys
     ``"datasets"``, ``"attrs"`` and ``"groups"`` (nested the same way).
-    Names may not contain "/": nesting is spelled with ``groups``.  The root
-    attribute ``selfalign_version`` is added automatically and may not be
-    passed in ``attrs``.
+    Names may not contain "/": nesting is spelled with ``groups``.  Every
+    dataset must be documented in :mod:`selfalign.io.quantities` (ValueError
+    naming it otherwise, before anything is written).  ``config``, the
+    settings a result was built from, is stored as YAML text in the root
+    attribute ``config``.  The root attributes ``selfalign_version`` and
+    ``git_commit`` are added automatically and may not be passed in ``attrs``.
     """
     from .. import __version__  # here, not at the top: the package __init__ may import this module
 
     attrs = dict(attrs or {})
-    if VERSION_ATTR in attrs:
-        raise ValueError(f"attribute {VERSION_ATTR!r} is reserved: write_h5 sets it")
+    reserved = {VERSION_ATTR, COMMIT_ATTR} | ({"config"} if config is not None else set())
+    if reserved & set(attrs):
+        raise ValueError(f"attributes {sorted(reserved & set(attrs))} are reserved: write_h5 sets them")
     attrs[VERSION_ATTR] = __version__
+    attrs[COMMIT_ATTR] = source_commit()
+    if config is not None:
+        attrs["config"] = yaml.safe_dump(config, sort_keys=False)
     content = {"datasets": datasets, "attrs": attrs, "groups": groups or {}}
+    documented = _documentation(content, "", _si_scale(attrs))
 
     def writer(tmp: Path) -> None:
         with h5py.File(tmp, "w", track_times=False) as f:
-            _write_group(f, content, "/")
+            _write_group(f, content, "", documented)
 
     return atomic_write(path, writer)
 
 
-def _write_group(group: h5py.Group, content: dict, where: str) -> None:
+@functools.cache
+def source_commit() -> str:
+    """``git rev-parse HEAD`` of the checkout this package runs from, with ``-dirty`` if tracked
+    files differ from it; ``"unknown"`` when the package is not a git checkout (e.g. installed).
+    ``--no-optional-locks``: parallel jobs must not race for the index lock."""
+    top = Path(__file__).resolve().parents[2]
+
+    def git(*args) -> str:
+        return subprocess.run(["git", "-C", str(top), *args], capture_output=True, text=True,
+                              check=True).stdout.strip()
+
+    try:
+        if Path(git("rev-parse", "--show-toplevel")).resolve() != top:
+            return "unknown"
+        dirty = git("--no-optional-locks", "status", "--porcelain", "--untracked-files=no")
+        return git("rev-parse", "HEAD") + ("-dirty" if dirty else "")
+    except (OSError, subprocess.CalledProcessError):
+        return "unknown"
+
+
+def _si_scale(attrs: dict) -> SIScale | None:
+    """The SI scale of the scene stored in ``attrs["scene"]``, if it has one."""
+    scene = attrs.get("scene")
+    si = yaml.safe_load(scene).get("si") if isinstance(scene, str) else None
+    return SIScale(**si) if si else None
+
+
+def _documentation(content: dict, where: str, si: SIScale | None) -> dict[str, dict]:
+    """Check the layout of ``content`` and return dataset path -> its attributes (units, description, ...)."""
     unknown = set(content) - _GROUP_KEYS
     if unknown:
-        raise ValueError(f"group {where!r}: unknown keys {sorted(unknown)}; allowed: {sorted(_GROUP_KEYS)}")
+        raise ValueError(f"group {where or '/'!r}: unknown keys {sorted(unknown)}; allowed: {sorted(_GROUP_KEYS)}")
     datasets = content.get("datasets") or {}
     subgroups = content.get("groups") or {}
     for name in list(datasets) + list(subgroups):
         if not isinstance(name, str) or not name or "/" in name or name == ".":
-            raise ValueError(f"group {where!r}: invalid name {name!r} (a non-empty string without '/')")
+            raise ValueError(f"group {where or '/'!r}: invalid name {name!r} (a non-empty string without '/')")
     clash = set(datasets) & set(subgroups)
     if clash:
-        raise ValueError(f"group {where!r}: {sorted(clash)} named both as dataset and as group")
-    for name, value in datasets.items():
-        group.create_dataset(name, data=_dataset_array(value), track_times=False)
+        raise ValueError(f"group {where or '/'!r}: {sorted(clash)} named both as dataset and as group")
+    found = {f"{where}/{name}": quantity(f"{where}/{name}").attrs(si) for name in datasets}
+    for name, sub in subgroups.items():
+        found.update(_documentation(sub, f"{where}/{name}", si))
+    return found
+
+
+def _write_group(group: h5py.Group, content: dict, where: str, documented: dict[str, dict]) -> None:
+    """Write ``content`` (checked by :func:`_documentation`) into ``group`` at path ``where``."""
+    for name, value in (content.get("datasets") or {}).items():
+        dataset = group.create_dataset(name, data=_dataset_array(value), track_times=False)
+        for key, attr in documented[f"{where}/{name}"].items():
+            dataset.attrs[key] = _encode_attr(attr)
     for key, value in (content.get("attrs") or {}).items():
         group.attrs[key] = _encode_attr(value)
-    for name, sub in subgroups.items():
-        _write_group(group.create_group(name), sub, f"{where.rstrip('/')}/{name}")
+    for name, sub in (content.get("groups") or {}).items():
+        _write_group(group.create_group(name), sub, f"{where}/{name}", documented)
 
 
 def _dataset_array(value) -> np.ndarray:
@@ -194,6 +260,15 @@ def read_h5(path) -> dict:
     """
     with h5py.File(path, "r") as f:
         return _read_group(f)
+
+
+def read_dataset_attrs(path) -> dict[str, dict]:
+    """Every dataset's attributes (``units``, ``description``, ...), decoded, by path (``"series/mode"``)."""
+    found = {}
+    with h5py.File(path, "r") as f:
+        f.visititems(lambda name, item: found.update(
+            {name: {k: _decode_attr(v) for k, v in item.attrs.items()}} if isinstance(item, h5py.Dataset) else {}))
+    return found
 
 
 def _read_group(group: h5py.Group) -> dict:

@@ -17,6 +17,16 @@ import numpy as np
 
 from .errors import NonPhysicalProfile, check_finite, check_positive
 
+#: The cases of Table 1 (the steady-state classification of a three-phase profile, Sect. 5).
+CASE_LABELS = {
+    0: "non-physical profile",
+    1: "stick-slip, x' >= 0",
+    2: "stick-slip, x' <= 0",
+    3: "general stick-slip",
+    4: "slip-slip",
+    5: "pure stick",
+}
+
 
 class Profile:
     """Base class: a periodic table displacement y(t) with period ``dt``."""

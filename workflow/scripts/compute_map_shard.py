@@ -11,5 +11,5 @@ with logged(snakemake.log[0]) as log:
     index = int(snakemake.wildcards.shard)
     rows = shard_rows(y2.size, m["shards"], index)
     write_h5(snakemake.output[0], map_shard(m["dt"], m["dy"], y2, y3, rows),
-             {"row_start": rows.start, "row_stop": rows.stop})
+             {"row_start": rows.start, "row_stop": rows.stop}, config=dict(snakemake.params.items()))
     log.info("shard %d: rows %d:%d of %d", index, rows.start, rows.stop, y2.size)

@@ -9,5 +9,5 @@ with logged(snakemake.log[0]) as log:
     datasets, attrs, groups = fig16_content([tuple(pair) for pair in p["settings"]], dt=setting["dt"],
                                             dy=setting["dy"], w=zone["w"], c_mu=zone["c_mu"],
                                             n_entries=p["n_entries"])
-    write_h5(snakemake.output[0], datasets, attrs, groups)
+    write_h5(snakemake.output[0], datasets, attrs, groups, config=dict(snakemake.params.items()))
     log.info("fig16: settings %s written to %s", sorted(groups), snakemake.output[0])

@@ -13,6 +13,6 @@ with logged(snakemake.log[0]) as log:
     rows = shard_rows(y2.size, p["shards"], index, interleaved=True)
     datasets, attrs = fig17_shard(y2, y3, rows, dt=p["dt"], dy=p["dy"], w=zone["w"], c_mu=zone["c_mu"],
                                   n_entries=p["n_entries"], max_periods=p["max_periods"], levels=p["levels"])
-    write_h5(snakemake.output[0], datasets, attrs)
+    write_h5(snakemake.output[0], datasets, attrs, config=dict(snakemake.params.items()))
     log.info("fig17 shard %d: rows %d::%d of %d, %d entries each, %d events", index, rows.start, rows.step,
              y2.size, p["n_entries"], attrs["events"])

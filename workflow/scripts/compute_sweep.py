@@ -14,7 +14,7 @@ with logged(snakemake.log[0]) as log:
                                        steps_per_period=poly["moreau_steps_per_period"],
                                        iteration=poly["moreau_iteration"])
     attrs["swept"] = swept
-    write_h5(snakemake.output[0], datasets, attrs)
+    write_h5(snakemake.output[0], datasets, attrs, config=dict(snakemake.params.items()))
     log.info("%s: %d points, max |f_moreau / f_exact - 1| = %.3g; written to %s", snakemake.wildcards.sweep,
              datasets["dt"].size, np.max(np.abs(datasets["f_moreau"] / datasets["f_exact"] - 1)),
              snakemake.output[0])

@@ -10,6 +10,6 @@ with logged(snakemake.log[0]) as log:
     m = snakemake.params.map
     y2, y3 = range_values(m["y2"]), range_values(m["y3"])
     datasets, attrs = gather_map(m["dt"], m["dy"], y2, y3, [read_h5(path)["datasets"] for path in snakemake.input])
-    write_h5(snakemake.output[0], datasets, attrs)
+    write_h5(snakemake.output[0], datasets, attrs, config=dict(snakemake.params.items()))
     log.info("%s: %d x %d map from %d shards, cases %s", snakemake.wildcards.map, y2.size, y3.size,
              len(snakemake.input), sorted(set(np.unique(datasets["case"]).tolist())))

@@ -15,7 +15,7 @@ with logged(snakemake.log[0]) as log:
         check = map_verification(result["datasets"], result["attrs"])
         attrs.update({f"{name}_{k}": v for k, v in check.items()})
         log.info("%s: %s", name, check)
-    write_h5(snakemake.output[0], {}, attrs)
+    write_h5(snakemake.output[0], {}, attrs, config={"maps": list(snakemake.input)})
     failed = [k for k, v in attrs.items() if k.endswith("_passed") and not v]
     if failed:
         raise RuntimeError(f"closed-form and simulated vbar disagree beyond the target: {failed}")

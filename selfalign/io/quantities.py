@@ -1,0 +1,252 @@
+"""Units and meaning of every dataset in a result file (README "Results").
+
+:func:`selfalign.io.hdf5.write_h5` looks every dataset up here and stores
+``units`` and ``description`` as its attributes (and ``legend`` for a coded
+one); it refuses a dataset it does not find, so that no quantity reaches a
+result file undocumented.  A dataset is found by ``"<group>/<name>"`` (its
+parent group's name; ``*`` matches any text, as in ``entry_*/t``) and
+otherwise by its name alone.
+
+Units.  The model is dimensionless (Sect. 3.2): lengths are in units of a
+characteristic length L and times in units of T = sqrt(L / (mu g)), so the
+``units`` of a physical quantity name its dimension in L and T and say that
+they are model units, e.g. ``"L/T (dimensionless model units, Sect. 3.2)"``.
+Pure numbers read ``"1 (dimensionless)"``, counts ``"1 (count)"``, coded
+values ``"1 (code; see legend)"``.  When the file was made from a scene
+with an SI scale (:class:`selfalign.model.units.SIScale`), a dataset of one
+physical dimension also gets ``si_units`` (e.g. ``"m/s"``) and ``si_factor``,
+the SI value of one model unit (stored value x si_factor = SI value).
+"""
+
+from __future__ import annotations
+
+import fnmatch
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+from ..model.profiles import CASE_LABELS
+from ..model.units import SIScale
+from ..solvers.outcomes import MODE_NAMES, STATUS_CODES, EventKind, Reason
+
+#: Exponents of L and T of each physical kind; V = (v1 - v2)^2 / 2 is an energy per unit mass.
+DIMENSIONS = {"length": (1, 0), "time": (0, 1), "velocity": (1, -1), "acceleration": (1, -2),
+              "energy": (2, -2), "power": (2, -3)}
+_MODEL = " (dimensionless model units, Sect. 3.2)"
+#: ``units`` of the kinds that are no single physical dimension.
+LABELS = {
+    "number": "1 (dimensionless)",
+    "count": "1 (count)",
+    "code": "1 (code; see legend)",
+    "boolean": "1 (boolean)",
+    "text": "text",
+    "cpu_time": "s (CPU time)",
+    "friction": "1 (dimensionless: in units of the maximum friction force mu m g)",
+    "state": "L for x, L/T for x'" + _MODEL,
+    "monodromy": "[[1, T], [1/T, 1]] for (x, x')" + _MODEL,
+}
+
+MODE_LEGEND = dict(MODE_NAMES)
+EVENT_LEGEND = {int(k): k.name for k in EventKind}
+STATUS_LEGEND = {code: status.value for status, code in STATUS_CODES.items()}
+REASON_LEGEND = {int(r): r.name.lower() for r in Reason}
+CASE_LEGEND = dict(CASE_LABELS)
+
+
+@dataclass(frozen=True)
+class Quantity:
+    """One dataset's kind (a key of DIMENSIONS or LABELS), meaning and, for codes, legend."""
+
+    kind: str
+    description: str
+    legend: Mapping[int, str] | None = None
+
+    def __post_init__(self):
+        if self.kind not in DIMENSIONS and self.kind not in LABELS:
+            raise ValueError(f"unknown quantity kind {self.kind!r}; allowed: {sorted({**DIMENSIONS, **LABELS})}")
+        if (self.kind == "code") != (self.legend is not None):
+            raise ValueError(f"{self.description!r}: a legend goes with kind 'code' and only with it")
+
+    def attrs(self, si: SIScale | None = None) -> dict:
+        """The dataset attributes: ``units``, ``description``, ``legend`` and, with ``si``, the SI unit."""
+        out = {"units": _symbol(self.kind, "L", "T") + _MODEL if self.kind in DIMENSIONS else LABELS[self.kind],
+               "description": self.description}
+        if self.legend is not None:
+            out["legend"] = {str(code): name for code, name in self.legend.items()}
+        if si is not None and self.kind in DIMENSIONS:
+            length, time = DIMENSIONS[self.kind]
+            out["si_units"] = _symbol(self.kind, "m", "s")
+            out["si_factor"] = si.L**length * si.T**time
+        return out
+
+
+def _symbol(kind: str, length: str, time: str) -> str:
+    """e.g. ``L/T^2`` for an acceleration."""
+    powers = dict(zip((length, time), DIMENSIONS[kind]))
+    up = [f"{s}^{p}" if p > 1 else s for s, p in powers.items() if p > 0]
+    down = [f"{s}^{-p}" if p < -1 else s for s, p in powers.items() if p < 0]
+    return " ".join(up or ["1"]) + "".join(f"/{d}" for d in down)
+
+
+def _table_motion(prefix: str, what: str) -> dict[str, Quantity]:
+    return {f"{prefix}y": Quantity("length", f"table position y of {what}"),
+            f"{prefix}yd": Quantity("velocity", f"table velocity y' of {what}"),
+            f"{prefix}ydd": Quantity("acceleration", f"table acceleration y'' of {what}")}
+
+
+def _steady_motion(prefix: str, what: str) -> dict[str, Quantity]:
+    return {f"{prefix}_motion_t": Quantity("time", f"time t of three steady periods from x(0) = 0, {what}"),
+            f"{prefix}_motion_v": Quantity("velocity", f"relative velocity x', {what}"),
+            f"{prefix}_motion_y": Quantity("length", f"table position y, {what}"),
+            f"{prefix}_motion_x_abs": Quantity("length", f"absolute mass position x + y, {what}")}
+
+
+def _per_run(group: str) -> dict[str, Quantity]:
+    """The per-run datasets of the accuracy study, the same in groups moreau and ivp."""
+    return {
+        f"{group}/cpu_time": Quantity("cpu_time", "CPU time of one simulate call per run (fastest of the repeats)"),
+        f"{group}/err_end_position": Quantity("length", "|x(N) - x_ref(N)| per run"),
+        f"{group}/err_vbar": Quantity("velocity", "|vbar - vbar_ref| per run, vbar = (x(N) - x(N-1)) / dt"),
+        f"{group}/x_end": Quantity("length", "end position x(N) per run"),
+        f"{group}/vbar": Quantity("velocity", "vbar = (x(N) - x(N-1)) / dt per run"),
+        f"{group}/steps": Quantity("count", "the solver's steps per run"),
+        f"{group}/events": Quantity("count", "the solver's events per run"),
+        f"{group}/status": Quantity("text", "the run's status (horizon, rest, accumulation, never_stops, error)"),
+        f"{group}/fast_forward_periods": Quantity("count", "periods the driver fast-forwarded per run"),
+    }
+
+
+def _method_pair(suffix: str, kind: str, description: str) -> dict[str, Quantity]:
+    """A polynomial-sweep quantity computed by the exact solver and by Moreau (Figs. 4, 5)."""
+    return {f"{suffix}_{method}": Quantity(kind, f"{description}, {solver}")
+            for method, solver in (("exact", "exact solver"), ("moreau", "Moreau time-stepping"))}
+
+
+_SWEEP = {**_method_pair("vbar", "velocity", "steady average velocity vbar (eq. 10)"),
+          **_method_pair("f", "number", "objective f = 1 / (c vbar^2), c = 1e4 (eq. 11)"),
+          **_method_pair("residual", "velocity", "change of x'(0) over the steady period"),
+          **_method_pair("periods", "count", "periods simulated to reach the steady state")}
+
+#: Every dataset a selfalign result file may hold: "<group>/<name>" or "<name>" -> Quantity.
+QUANTITIES: dict[str, Quantity] = {
+    # time and table motion (trajectory, convergence, fig06, series)
+    "t": Quantity("time", "time t of each sample"),
+    **_table_motion("", "each sample"),
+    "switch_times": Quantity("time", "times within [0, dt) at which y'' jumps"),
+    # axes and settings
+    "y2": Quantity("acceleration", "the axis y2'' (table acceleration of the second phase)"),
+    "y3": Quantity("acceleration", "the axis y3'' (table acceleration of the third phase)"),
+    "dt": Quantity("time", "period dt of the table motion (swept or fixed)"),
+    "dy": Quantity("length", "stroke dy of the table motion (swept or fixed)"),
+    "case": Quantity("code", "case of Table 1 (0: no physical profile)", CASE_LEGEND),
+    "vbar": Quantity("velocity", "steady average velocity vbar (eq. 10), NaN in case 0"),
+    "f": Quantity("number", "objective f = 1 / (c vbar^2), c = 1e4 (eq. 11; inf in pure stick), NaN in case 0"),
+    "vbar_simulated": Quantity("velocity", "vbar from the batched exact solver, from x'(0) = 0"),
+    **_SWEEP,
+    # simulation result (selfalign.io.simulation_result)
+    "series/t": Quantity("time", "time t of each recorded sample (samples_per_period per period plus every event)"),
+    "series/x": Quantity("length", "relative position x of the mass"),
+    "series/v": Quantity("velocity", "relative velocity x' of the mass"),
+    **_table_motion("series/", "each recorded sample"),
+    "series/friction": Quantity("friction", "friction force F_f (eq. 5)"),
+    "series/mode": Quantity("code", "mode of the motion", MODE_LEGEND),
+    "events/kind": Quantity("code", "kind of each event", EVENT_LEGEND),
+    "events/period": Quantity("count", "period n of each event"),
+    "events/tau": Quantity("time", "time tau within the period of each event"),
+    "events/t": Quantity("time", "time t = n dt + tau of each event"),
+    "events/x": Quantity("length", "relative position x at each event"),
+    "events/v": Quantity("velocity", "relative velocity x' at each event"),
+    "events/mode_before": Quantity("code", "mode before each event", MODE_LEGEND),
+    "events/mode": Quantity("code", "mode after each event", MODE_LEGEND),
+    "events/acc_before": Quantity("acceleration", "relative acceleration x'' just before each event"),
+    "events/acc_after": Quantity("acceleration", "relative acceleration x'' just after each event"),
+    # accuracy study (selfalign.analysis.accuracy)
+    "moreau/h": Quantity("time", "Moreau step h = dt / n of each run"),
+    "moreau/steps_per_period": Quantity("count", "Moreau steps per period n of each run"),
+    "ivp/rtol": Quantity("number", "relative tolerance of each solve_ivp run"),
+    "ivp/atol": Quantity("state", "absolute tolerance of each solve_ivp run"),
+    **_per_run("moreau"),
+    **_per_run("ivp"),
+    # stability (selfalign.stages.stability)
+    "methods": Quantity("text", "the methods, the reference first: analytic, saltation, numeric_exact, "
+                                "numeric_moreau"),
+    "monodromy": Quantity("monodromy", "per method: monodromy matrix M (2 x 2) of (x, x') over the periodic motion"),
+    "multipliers": Quantity("number", "per method: Floquet multipliers, eigenvalues of M by decreasing modulus"),
+    "monodromy_error": Quantity("monodromy", "per method: largest absolute difference of M from the reference"),
+    "multiplier_error": Quantity("number", "per method: largest absolute multiplier difference from the reference"),
+    "moreau_steps": Quantity("count", "Moreau scan: steps per period N (h = dt / N)"),
+    "moreau_eps": Quantity("state", "Moreau scan: finite-difference step eps in x and x'"),
+    "moreau_monodromy": Quantity("monodromy", "Moreau scan: M per steps x eps"),
+    "moreau_multipliers": Quantity("number", "Moreau scan: multipliers per steps x eps"),
+    "moreau_multiplier_error": Quantity("number", "Moreau scan: multiplier error from the reference per steps x eps"),
+    # convergence (selfalign.stages.convergence)
+    "v1": Quantity("velocity", "relative velocity x' of trajectory 1"),
+    "v2": Quantity("velocity", "relative velocity x' of trajectory 2"),
+    "V": Quantity("energy", "V = (v1 - v2)^2 / 2 (eq. 35)"),
+    "dV": Quantity("power", "V'(t+)"),
+    "interval_start": Quantity("time", "start of each interval of Fig. 13"),
+    "interval_end": Quantity("time", "end of each interval of Fig. 13"),
+    "interval_equal": Quantity("boolean", "true for a '=' interval (v1 = v2), false for a '!=' one"),
+    "period_t": Quantity("time", "period boundaries"),
+    "period_V": Quantity("energy", "V at the period boundaries"),
+    # Fourier optimisation, Fig. 6 (selfalign.stages.classification.fig06_results)
+    **_table_motion("fourier_", "the optimal Fourier profile over one period (shifted to zero mean)"),
+    **_table_motion("start_", "the SQP start profile over one period (shifted to zero mean)"),
+    **_table_motion("three_phase_", "the best three-phase profile over one period (shifted to zero mean)"),
+    **_steady_motion("fourier", "optimal Fourier profile"),
+    **_steady_motion("three_phase", "best three-phase profile"),
+    "history_f": Quantity("number", "f at the start and after every SQP iteration"),
+    "cos_coeffs": Quantity("length", "cosine coefficients a_k of the optimum (time-shifted)"),
+    "sin_coeffs": Quantity("length", "sine coefficients b_k of the optimum (time-shifted)"),
+    "start_cos_coeffs": Quantity("length", "cosine coefficients a_k of the SQP start"),
+    "start_sin_coeffs": Quantity("length", "sine coefficients b_k of the SQP start"),
+    # positioning, Fig. 17 (selfalign.stages.accumulation)
+    "dx_d": Quantity("length", "dx_d (eq. 39) over the entries that stop; NaN where none stops"),
+    "frac_accumulate": Quantity("number", "fraction of the entries that accumulate"),
+    "frac_stop": Quantity("number", "fraction of the entries that come to rest"),
+    "frac_never_stop": Quantity("number", "fraction of the entries that never stop"),
+    "frac_undecided": Quantity("number", "fraction of the entries that stay undecided"),
+    "x_stick_min": Quantity("length", "x_stick_min (eq. 41), relative to x_mu"),
+    "overshoot_min": Quantity("length", "smallest overshoot of the entries that stop, relative to x_mu"),
+    "overshoot_max": Quantity("length", "largest overshoot of the entries that stop, relative to x_mu"),
+    "contraction": Quantity("number", "median ratio of the last two stick increments of the accumulating entries"),
+    "levels": Quantity("number", "the levels p"),
+    "level_from_first_stick": Quantity("count", "worst-case periods from the first stick in the zone until "
+                                                "x >= x_mu + p (x_stick_min - x_mu)"),
+    "level_from_entry": Quantity("count", "worst-case periods from the entry until x >= x_mu + p (x_stick_min - x_mu)"),
+    "level_sticks": Quantity("count", "worst-case zone stick events before x >= x_mu + p (x_stick_min - x_mu)"),
+    # portraits, Figs. 14-16 (one group per setting)
+    "s": Quantity("length", "per entry: offset s_j"),
+    "x0": Quantity("length", "per entry: start position x0 = -s_j"),
+    "status": Quantity("code", "per entry: status", STATUS_LEGEND),
+    "reason": Quantity("code", "per entry: reason behind the status (selfalign.solvers.outcomes.Reason)",
+                       REASON_LEGEND),
+    "x_end": Quantity("length", "per entry: end position (the limit for an accumulation)"),
+    "overshoot": Quantity("length", "per entry: x_end - x_mu (NaN unless it stops)"),
+    "first_stick_x": Quantity("length", "per entry: first stick position at x >= x_mu"),
+    "entry_*/t": Quantity("time", "time t of the entry's dense trajectory (400 samples per period plus every event)"),
+    "entry_*/x": Quantity("length", "relative position x of the entry"),
+    "entry_*/v": Quantity("velocity", "relative velocity x' of the entry"),
+    "entry_*/stick_x": Quantity("length", "positions of all the entry's STICK events, in order"),
+    # stick map, Fig. 18
+    "x_n": Quantity("length", "stick positions x_n on [x_mu, x_mu + w]"),
+    "x_next_formula": Quantity("length", "x_{n+1} by eq. (59)"),
+    "x_next_simulated": Quantity("length", "x_{n+1} by the exact solver"),
+    "valid": Quantity("boolean", "where the assumptions of eq. (59) hold"),
+    "cobweb_accumulate": Quantity("length", "start and stick positions of a run started stuck just above x_c"),
+    "cobweb_rest": Quantity("length", "start and stick positions of a run started stuck just below x_c"),
+}
+
+
+def quantity(path: str) -> Quantity:
+    """The Quantity of the dataset at ``path`` (e.g. ``"series/mode"``); ValueError if undocumented."""
+    parts = path.strip("/").split("/")
+    if len(parts) > 1:
+        scoped = "/".join(parts[-2:])
+        for key, found in QUANTITIES.items():
+            if "/" in key and fnmatch.fnmatchcase(scoped, key):
+                return found
+    try:
+        return QUANTITIES[parts[-1]]
+    except KeyError:
+        raise ValueError(f"dataset {path!r} has no units and description: add it to "
+                         "selfalign.io.quantities.QUANTITIES") from None
