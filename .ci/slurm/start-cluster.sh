@@ -22,7 +22,6 @@ SPOOL_DIR=/var/lib/slurm/slurmd
 LOG_DIR=/var/log/slurm
 RUN_DIR=/run/slurm
 MUNGE_KEY=/etc/munge/munge.key
-MUNGE_SOCKET=/run/munge/munge.socket.2
 MUNGE_PID=/run/munge/munged.pid
 MUNGE_LOG=/var/log/munge/munged.log
 MARKER="# written by .ci/slurm/start-cluster.sh"
@@ -121,8 +120,9 @@ start_munge() {
   fi
   chown munge:munge "$MUNGE_KEY"
   chmod 0400 "$MUNGE_KEY"
-  if pid_alive "$MUNGE_PID" munged && [[ -S $MUNGE_SOCKET ]]; then
-    log "munged already running (pid $(<"$MUNGE_PID"))"
+  if munge -n 2>/dev/null | unmunge >/dev/null 2>&1; then
+    # Running already (ours, or one started by the package or an earlier session).
+    log "munged already running${MUNGE_PID:+ (pid $(cat "$MUNGE_PID" 2>/dev/null || echo '?'))}"
   else
     log "starting munged"
     rm -f "$MUNGE_PID"
@@ -171,6 +171,7 @@ SlurmdUser=root
 AuthType=auth/munge
 CredType=cred/munge
 MpiDefault=none
+MailProg=/bin/true
 ReturnToService=2
 StateSaveLocation=$STATE_DIR
 SlurmdSpoolDir=$SPOOL_DIR
@@ -200,6 +201,8 @@ SlurmctldTimeout=10
 SlurmdTimeout=30
 MessageTimeout=10
 InactiveLimit=0
+# Reject at submission (instead of leaving PENDING forever) jobs that cannot fit the node.
+EnforcePartLimits=ALL
 KillWait=5
 Waittime=0
 $extra
@@ -232,7 +235,13 @@ start_daemon() { # NAME ARGS...
     pid_alive "$RUN_DIR/$name.pid" "$name" && return 0
     sleep 0.2
   done
-  die "cannot start $name: no live process after 10 s (see its log below)"
+  die "cannot start $name: no live process after 10 s; last error in its log: $(last_error "$LOG_DIR/$name.log")"
+}
+
+# last_error LOGFILE: the last error/fatal line of a slurm log, minus the harmless PMIx noise.
+last_error() {
+  tail -n 40 "$1" 2>/dev/null | grep -E 'error:|fatal:' | grep -viE 'pmix|MPI' | tail -n 1 |
+    sed 's/^\[[^]]*\] //' || true
 }
 
 install -d -m 0755 "$CONF_DIR" "$RUN_DIR" "$LOG_DIR" /var/lib/slurm
@@ -267,7 +276,7 @@ else
 fi
 for ((i = 0; ; i++)); do
   timeout 5 scontrol ping 2>/dev/null | grep -q 'is UP' && break
-  ((i < TIMEOUT * 2)) || die "cannot start slurmctld: 'scontrol ping' does not answer UP after ${TIMEOUT} s"
+  ((i < TIMEOUT * 2)) || die "cannot start slurmctld: 'scontrol ping' does not answer UP after ${TIMEOUT} s ($(last_error "$LOG_DIR/slurmctld.log"))"
   sleep 0.5
 done
 
@@ -287,7 +296,7 @@ for ((i = 0; ; i++)); do
       # A node left down by an earlier run (or flagged before slurmd registered): resume it.
       scontrol update NodeName="$HOST" State=RESUME >/dev/null 2>&1 || true ;;
   esac
-  ((i < TIMEOUT * 2)) || die "cannot start slurmd: node $HOST is '${state:-unknown}', not idle, after ${TIMEOUT} s"
+  ((i < TIMEOUT * 2)) || die "cannot start slurmd: node $HOST is '${state:-unknown}', not idle, after ${TIMEOUT} s ($(last_error "$LOG_DIR/slurmd.log"))"
   sleep 0.5
 done
 log "node $HOST is $state"
@@ -320,7 +329,9 @@ cat <<EOF
 # No environment is needed: the client commands read $CONF.
 # Run Snakemake with, e.g.:
 #   snakemake --executor slurm --slurm-status-command squeue \\
-#     --slurm-init-seconds-before-status-checks 1 --seconds-between-status-checks 1 \\
+#     --slurm-init-seconds-before-status-checks 1 \\
 #     --default-resources slurm_partition=$PARTITION runtime=10 ...
+# (--slurm-status-command squeue is required: there is no accounting database, and with
+#  the default 'sacct' Snakemake loses track of its jobs and hangs; see README.md.)
 SLURM_CONF=$CONF
 EOF
