@@ -21,6 +21,18 @@ def pytest_addoption(parser):
                      help="rewrite tests/figure_refs/*.json and figures/*.png instead of comparing")
 
 
+def pytest_collection_modifyitems(config, items):
+    """Tests marked ``slurm`` start daemons as root and take minutes: they run only when the ``-m``
+    expression names them (``.ci/run`` runs ``pytest -q -m slurm``), so the README's test command
+    and e.g. ``-m 'not slow'`` leave them out."""
+    if "slurm" in config.getoption("markexpr"):
+        return
+    slurm = [item for item in items if item.get_closest_marker("slurm")]
+    if slurm:
+        config.hook.pytest_deselected(items=slurm)
+        items[:] = [item for item in items if not item.get_closest_marker("slurm")]
+
+
 @pytest.fixture
 def update_figure_refs(request) -> bool:
     return request.config.getoption("--update-figure-refs")
