@@ -40,12 +40,12 @@ from __future__ import annotations
 
 from concurrent.futures import ProcessPoolExecutor
 from contextlib import nullcontext
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from ..model.errors import check_finite, check_positive
-from ..model.friction import StopZone
+from ..model.friction import FrictionLaw, StopZone
 from ..model.profiles import ThreePhaseProfile, three_phase_times
 from ..progress import Progress, resolve_mode
 from ..solvers.driver import ProfileTable, simulate_batch
@@ -53,6 +53,7 @@ from ..solvers.exact import piecewise_rows
 from ..solvers.outcomes import STATUS_CODES, Status
 from ..solvers.records import EXACT_PIECEWISE
 from .classification import check_parameters
+from .steady_simulation import three_phase_simulated_steady_state
 from .steady_state import steady_state_grid
 from .stick_map import stick_map, stick_map_validity
 
@@ -102,20 +103,21 @@ def three_phase_table(dt, dy, y2, y3) -> ProfileTable:
 
 def _run_chunk(args):
     """Simulate the entries of settings (flat arrays); per-entry arrays shaped (M, N)."""
-    dt, dy, y2, y3, v0, vbar, w, c_mu, n_entries, offset, max_periods, tol, levels = args
+    dt, dy, y2, y3, v0, vbar, w, c_mu, n_entries, offset, max_periods, tol, levels, friction = args
     m = dt.size
     table = three_phase_table(dt, dy, y2, y3)
     # Delta_x: the largest x over one steady period from x_s(0) = 0 (local maxima are v = 0 events).
     dx = simulate_batch(table, 0.0, v0, profile_index=np.arange(m), until="periods", periods=1,
-                        fast_forward=False).x_max if m else np.zeros(0)
+                        fast_forward=False, friction=friction).x_max if m else np.zeros(0)
     frac = (np.arange(n_entries) + offset) / n_entries
     s = (vbar * dt)[:, None] * frac[None, :]
-    amax = np.maximum(y2, y3)
+    amax = np.maximum(y2, y3) / friction.ratio          # permanent stick needs mu_s mu_bar >= max|y''|
     xs_rel = np.where(amax > c_mu, np.inf, w * (amax - 1.0) / (c_mu - 1.0))  # eq. (41)
     lev = dx[:, None] + levels[None, :] * xs_rel[:, None]
     rep = lambda a: np.repeat(a, n_entries, axis=0)  # noqa: E731
     res = simulate_batch(table, -s.ravel(), rep(v0), profile_index=rep(np.arange(m)), x_mu=rep(dx), w=w,
-                         c_mu=c_mu, levels=rep(lev), until="rest", max_periods=max_periods, accumulation_tol=tol)
+                         c_mu=c_mu, levels=rep(lev), until="rest", max_periods=max_periods, accumulation_tol=tol,
+                         friction=friction)
     per = lambda a: a.reshape((m, n_entries) + a.shape[1:])  # noqa: E731
     crossing = np.stack([res.crossing_time(j) for j in range(res.boundaries.shape[1])], axis=1)
     t_cross = per(crossing)
@@ -132,10 +134,16 @@ def _run_chunk(args):
     }
 
 
-def _simulate_settings(dt, dy, y2, y3, w, c_mu, n_entries, offset, max_periods, tol, levels, processes, progress):
+def _simulate_settings(dt, dy, y2, y3, w, c_mu, n_entries, offset, max_periods, tol, levels, processes, progress,
+                       friction):
     """Steady state and entry runs for flat setting arrays; entry results for the moving ones,
-    reporting progress (:class:`selfalign.progress.Progress` mode ``progress``) per chunk."""
+    reporting progress (:class:`selfalign.progress.Progress` mode ``progress``) per chunk.
+    Under static/kinetic friction the steady state (vbar, v0, f) is simulated (no closed form);
+    ``case`` stays that of the paper's Coulomb friction (Table 1)."""
     ss = steady_state_grid(dt, dy, y2, y3)
+    if friction.kind != "coulomb":
+        sim = three_phase_simulated_steady_state(dt, dy, y2, y3, progress="quiet", friction=friction)
+        ss = replace(ss, vbar=sim.vbar, v0=sim.v0, f=sim.f)
     moving = (ss.case > 0) & (ss.vbar > 0)
     idx = np.flatnonzero(moving)
     per_chunk = max(1, CHUNK_MEMBERS // n_entries)
@@ -143,7 +151,7 @@ def _simulate_settings(dt, dy, y2, y3, w, c_mu, n_entries, offset, max_periods, 
     if processes > 1 and len(parts) < processes and idx.size >= processes:
         parts = np.array_split(idx, processes)
     jobs = [(dt[p], dy[p], y2[p], y3[p], ss.v0[p], ss.vbar[p], w, c_mu, n_entries, offset, max_periods, tol,
-             levels) for p in parts]
+             levels, friction) for p in parts]
     parallel = processes > 1 and len(jobs) > 1
     outs = []
     with (ProcessPoolExecutor(max_workers=processes) if parallel else nullcontext()) as pool, \
@@ -155,7 +163,7 @@ def _simulate_settings(dt, dy, y2, y3, w, c_mu, n_entries, offset, max_periods, 
         runs = {key: np.concatenate([o[key] for o in outs]) for key in outs[0]}
     else:
         runs = _run_chunk((dt[:0], dy[:0], y2[:0], y3[:0], ss.v0[:0], ss.vbar[:0], w, c_mu, n_entries,
-                           offset, max_periods, tol, levels))
+                           offset, max_periods, tol, levels, friction))
     return ss, idx, runs
 
 
@@ -231,23 +239,35 @@ def _summary(status, overshoot):
 
 
 def positioning(profile: ThreePhaseProfile, *, w: float, c_mu: float, n_entries: int = 64, offset: float = 0.5,
-                max_periods: int = MAX_PERIODS, accumulation_tol: float = 1e-12) -> Positioning:
+                max_periods: int = MAX_PERIODS, accumulation_tol: float = 1e-12,
+                friction: FrictionLaw | None = None) -> Positioning:
     """Overshoot range, positioning error and outcome of every steady-state entry (Sect. 7.1).
 
-    ValueError if the profile's steady state does not move forward (vbar <= 0):
-    then the mass never reaches the zone.
+    ``friction``: a static/kinetic :class:`~selfalign.model.friction.FrictionLaw` (default:
+    the paper's Coulomb friction).  ValueError if the profile's steady state does not move
+    forward (vbar <= 0): then the mass never reaches the zone.
     """
-    return _positioning(profile, w, c_mu, n_entries, offset, max_periods, accumulation_tol, np.empty(0))[1]
+    return _positioning(profile, w, c_mu, n_entries, offset, max_periods, accumulation_tol, np.empty(0),
+                        friction)[1]
 
 
-def _positioning(profile, w, c_mu, n_entries, offset, max_periods, accumulation_tol, levels):
+def _friction(friction) -> FrictionLaw:
+    friction = FrictionLaw() if friction is None else friction
+    if not isinstance(friction, FrictionLaw) or friction.stribeck:
+        raise ValueError(f"friction must be a Coulomb or static/kinetic FrictionLaw (positioning runs the exact "
+                         f"batched solver, which has no Stribeck arcs), got {friction!r}")
+    return friction
+
+
+def _positioning(profile, w, c_mu, n_entries, offset, max_periods, accumulation_tol, levels, friction=None):
     """(per-entry runs of the one setting, Positioning) with the level crossings of ``levels``."""
     if not isinstance(profile, ThreePhaseProfile):
         raise ValueError(f"positioning needs a ThreePhaseProfile, got {type(profile).__name__}")
     _check_zone(w, c_mu, n_entries, offset, max_periods)
     arrays = [np.array([v]) for v in (profile.dt, profile.dy, profile.y2, profile.y3)]
     ss, idx, runs = _simulate_settings(*arrays, float(w), float(c_mu), int(n_entries), float(offset),
-                                       int(max_periods), float(accumulation_tol), levels, 1, "quiet")
+                                       int(max_periods), float(accumulation_tol), levels, 1, "quiet",
+                                       _friction(friction))
     if idx.size == 0:
         raise ValueError(f"the steady state of {profile!r} does not move forward (vbar = {float(ss.vbar[0])!r}, "
                          f"case {int(ss.case[0])}): the mass never reaches the zone")
@@ -313,8 +333,10 @@ class PositioningGrid:
 
 def positioning_grid(dt, dy, y2, y3, *, w: float, c_mu: float, n_entries: int = 64, offset: float = 0.5,
                      max_periods: int = MAX_PERIODS, accumulation_tol: float = 1e-12, levels=(),
-                     processes: int = 1, progress: str = "auto") -> PositioningGrid:
-    """:func:`positioning` for broadcast arrays of (dt, dy, y2, y3) with the batched solver.
+                     processes: int = 1, progress: str = "auto", friction: FrictionLaw | None = None
+                     ) -> PositioningGrid:
+    """:func:`positioning` for broadcast arrays of (dt, dy, y2, y3) with the batched solver
+    (``friction`` as in :func:`positioning`).
 
     ``levels``: fractions p in (0, 1) for the accumulation speed; ``processes``
     > 1 splits the settings over that many worker processes.  ``progress``: how the
@@ -329,7 +351,8 @@ def positioning_grid(dt, dy, y2, y3, *, w: float, c_mu: float, n_entries: int = 
     shape = arrays[0].shape
     flat = [a.ravel() for a in arrays]
     ss, idx, runs = _simulate_settings(*flat, float(w), float(c_mu), int(n_entries), float(offset),
-                                       int(max_periods), float(accumulation_tol), levels, int(processes), progress)
+                                       int(max_periods), float(accumulation_tol), levels, int(processes), progress,
+                                       _friction(friction))
     size, nl = flat[0].size, levels.size
 
     def scatter(values, extra=()):

@@ -214,14 +214,16 @@ def _moreau_period_map(profiles, steps_per_period: int, iteration: str):
     return period_map
 
 
-def _three_phase_period_map(dt, dy, y2, y3):
-    """Period map of three-phase profiles (flat feasible arrays) from the batched exact solver."""
+def _three_phase_period_map(dt, dy, y2, y3, friction=None):
+    """Period map of three-phase profiles (flat feasible arrays) from the batched exact solver
+    (``friction``: a static/kinetic :class:`~selfalign.model.friction.FrictionLaw`; default Coulomb)."""
     from .positioning import three_phase_table
 
     table = three_phase_table(dt, dy, y2, y3)
 
     def period_map(index, v):
-        res = simulate_batch(table, 0.0, v, profile_index=index, until="periods", periods=1, fast_forward=False)
+        res = simulate_batch(table, 0.0, v, profile_index=index, until="periods", periods=1, fast_forward=False,
+                             friction=friction)
         if np.any(res.reason == Reason.MAX_EVENTS):
             raise RuntimeError("batched exact solver failed on a three-phase profile")
         return res.v_end, res.records["xi"]        # x0 = 0: the end position is the displacement
@@ -262,11 +264,13 @@ def simulated_steady_state(profiles, method: str = "exact", *, steps_per_period:
                                    rtol=rtol, progress=progress)
 
 
-def three_phase_simulated_steady_state(dt, dy, y2, y3, *, rtol: float = RTOL,
-                                       progress: str = "auto") -> SimulatedSteadyState:
+def three_phase_simulated_steady_state(dt, dy, y2, y3, *, rtol: float = RTOL, progress: str = "auto",
+                                       friction=None) -> SimulatedSteadyState:
     """Simulated steady state of three-phase profiles (broadcast arrays; NaN for case 0) with the
     batched exact solver and :func:`iterate_to_steady_state` (reporting to ``progress``),
-    independent of the closed forms."""
+    independent of the closed forms.  ``friction``: a static/kinetic
+    :class:`~selfalign.model.friction.FrictionLaw` (default Coulomb), for which no closed form
+    exists: a stick lasts while |y''| <= mu_s / mu_k, which moves every phase of Sect. 5."""
     resolve_mode(progress)
     arrays = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (dt, dy, y2, y3)))
     shape = arrays[0].shape
@@ -277,7 +281,7 @@ def three_phase_simulated_steady_state(dt, dy, y2, y3, *, rtol: float = RTOL,
     periods, cycle = np.zeros(dt.size, dtype=np.int64), np.ones(dt.size, dtype=np.int64)
     if ok.size:
         swing = y2[ok] * (times.t2[ok] - times.t1[ok])   # max y' - min y' (eq. 63)
-        res = iterate_to_steady_state(_three_phase_period_map(dt[ok], dy[ok], y2[ok], y3[ok]),
+        res = iterate_to_steady_state(_three_phase_period_map(dt[ok], dy[ok], y2[ok], y3[ok], friction),
                                       swing, dt[ok], rtol=rtol, progress=progress)
         for key in out:
             out[key][ok] = getattr(res, key)

@@ -14,7 +14,7 @@ from importlib import resources
 from pathlib import Path
 
 from ..model.errors import NonPhysicalProfile, SceneError
-from ..model.friction import StopZone, Uniform
+from ..model.friction import FrictionLaw, StopZone, Uniform
 from ..model.profiles import FourierProfile, PolynomialProfile, ThreePhaseProfile
 from ..model.scene import Record, Scene
 from ..model.units import SIScale
@@ -129,6 +129,12 @@ def scene_from_dict(data: dict, source: str = "<scene>", name: str | None = None
         surface = StopZone(value(s, "x_mu", "length"), value(data["body"], "width", "length"), s["c_mu"])
     else:
         surface = Uniform()
+    f = data.get("friction", {"kind": "coulomb"})
+    try:
+        friction = FrictionLaw(f["kind"], f.get("mu_s_over_mu_k", 1.0), value(f, "v_s", "velocity"),
+                               f.get("delta", 2.0))
+    except ValueError as exc:
+        raise SceneError(f"{source}: {exc}") from None
 
     start = data.get("start", {})
     horizon = data["horizon"]
@@ -140,7 +146,7 @@ def scene_from_dict(data: dict, source: str = "<scene>", name: str | None = None
     record = data.get("record", {})
     try:
         scene = Scene(
-            profile=profile, surface=surface,
+            profile=profile, surface=surface, friction=friction,
             x0=value(start, "x0", "length", 0.0), v0=value(start, "v0", "velocity", 0.0),
             phase=start.get("phase", 0.0),
             periods=horizon.get("periods"), until=horizon.get("until"),

@@ -4,9 +4,18 @@ Coefficients are dimensionless: the low-friction coefficient mu is the unit
 (Sect. 3.2), so the uniform surface has mu_bar = 1.  Positions in the formulas are
 relative to the start of the high-friction region, xi = x - x_mu.
 
-The scalar formulas (:func:`coefficient`, :func:`decide_mode`, :func:`stick_limit`)
-are the only place the friction law is written; the classes below and the compiled
-event kernel call them.
+The scalar formulas (:func:`coefficient`, :func:`decide_mode`, :func:`stick_limit`,
+:func:`stribeck_factor`) are the only place the friction law is written; the classes
+below and the compiled event kernel call them.
+
+The field mu_bar(x) is the kinetic coefficient.  A :class:`FrictionLaw` adds what the
+paper leaves out (issue 16): a static coefficient mu_s = r mu_k (r = ``mu_s_over_mu_k``
+>= 1, the same ratio on both sides of the stop zone, which scales both), so a stuck
+mass stays stuck while |y''| <= r mu_bar(x) and slips against mu_bar(x); and optionally
+the Stribeck (velocity-weakening) law mu(v) = mu_k + (mu_s - mu_k) exp(-(|v|/v_s)^delta)
+of Armstrong-Helouvry, Dupont & Canudas de Wit, Automatica 30 (1994) 1083-1138, in the
+form of Olsson et al., Eur. J. Control 4 (1998) 176-195.  The default law
+(r = 1) is the paper's Coulomb friction.
 """
 
 from __future__ import annotations
@@ -47,6 +56,15 @@ def decide_mode(a: float, mu: float) -> int:
     if a < -mu:
         return 1
     return 0
+
+
+@formula
+def stribeck_factor(speed: float, ratio: float, v_s: float, delta: float) -> float:
+    """mu(v) / mu_k = 1 + (r - 1) exp(-(|v| / v_s)^delta) at slip speed |v| (Stribeck law).
+
+    r at v = 0 (the static coefficient), decreasing to 1 (kinetic) for |v| >> v_s.
+    """
+    return 1.0 + (ratio - 1.0) * math.exp(-((speed / v_s) ** delta))
 
 
 @formula
@@ -140,3 +158,62 @@ class StopZone:
 
     def __hash__(self):
         return hash((self.kind, self.x_mu, self.w, self.c_mu))
+
+
+FRICTION_KINDS = ("coulomb", "static_kinetic", "stribeck")
+
+
+class FrictionLaw:
+    """How friction depends on the state beyond mu_bar(x): the paper's Coulomb law (the
+    default), static/kinetic (``mu_s_over_mu_k`` = r > 1) or Stribeck (r and ``v_s`` > 0,
+    ``delta`` > 0); see the module docstring.  Velocities are dimensionless (Sect. 3.2).
+    """
+
+    def __init__(self, kind: str = "coulomb", mu_s_over_mu_k: float = 1.0, v_s: float | None = None,
+                 delta: float = 2.0):
+        if kind not in FRICTION_KINDS:
+            raise ValueError(f"friction.kind must be one of {list(FRICTION_KINDS)}, got {kind!r}")
+        ratio = check_finite("friction.mu_s_over_mu_k", mu_s_over_mu_k)
+        if ratio < 1.0:
+            raise ValueError(f"friction.mu_s_over_mu_k must be >= 1 (static friction is at least kinetic), "
+                             f"got {mu_s_over_mu_k!r}")
+        if kind == "coulomb" and ratio != 1.0:
+            raise ValueError(f"friction.mu_s_over_mu_k = {mu_s_over_mu_k!r} needs kind static_kinetic or stribeck")
+        if kind == "stribeck":
+            if v_s is None:
+                raise ValueError("friction.v_s (the Stribeck velocity) is required with kind stribeck")
+            v_s = check_positive("friction.v_s", v_s)
+            delta = check_positive("friction.delta", delta)
+        elif v_s is not None:
+            raise ValueError(f"friction.v_s is a parameter of kind stribeck, not of {kind}")
+        self.kind, self.ratio = kind, ratio
+        self.v_s = v_s if kind == "stribeck" else 0.0
+        self.delta = float(delta) if kind == "stribeck" else 0.0
+
+    @property
+    def stribeck(self) -> bool:
+        return self.kind == "stribeck"
+
+    def factor(self, v):
+        """mu(v) / mu_k: 1 (Coulomb, static/kinetic in slip) or :func:`stribeck_factor`, elementwise."""
+        v = np.asarray(v, dtype=float)
+        if not self.stribeck:
+            return np.ones_like(v)
+        return 1.0 + (self.ratio - 1.0) * np.exp(-((np.abs(v) / self.v_s) ** self.delta))
+
+    def params(self) -> dict:
+        out = {"kind": self.kind}
+        if self.kind != "coulomb":
+            out["mu_s_over_mu_k"] = self.ratio
+        if self.stribeck:
+            out.update(v_s=self.v_s, delta=self.delta)
+        return out
+
+    def __repr__(self):
+        return "FrictionLaw(" + ", ".join(f"{k}={v!r}" for k, v in self.params().items()) + ")"
+
+    def __eq__(self, other):
+        return isinstance(other, FrictionLaw) and self.params() == other.params()
+
+    def __hash__(self):
+        return hash(tuple(self.params().items()))

@@ -10,7 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from .errors import SceneError, check_finite, check_integer
-from .friction import StopZone, Uniform
+from .friction import FrictionLaw, StopZone, Uniform
 from .profiles import Profile
 from .units import SIScale
 
@@ -70,6 +70,7 @@ class Scene:
 
     profile: Profile
     surface: Uniform | StopZone = field(default_factory=Uniform)
+    friction: FrictionLaw = field(default_factory=FrictionLaw)
     x0: float = 0.0
     v0: float = 0.0
     phase: float = 0.0
@@ -88,6 +89,8 @@ class Scene:
             raise SceneError(f"profile must be a selfalign profile, got {type(self.profile).__name__}")
         if not isinstance(self.surface, (Uniform, StopZone)):
             raise SceneError(f"surface must be Uniform() or StopZone(...), got {type(self.surface).__name__}")
+        if not isinstance(self.friction, FrictionLaw):
+            raise SceneError(f"friction must be a FrictionLaw, got {type(self.friction).__name__}")
         for key in ("x0", "v0", "phase"):
             try:
                 object.__setattr__(self, key, check_finite(key, getattr(self, key)))
@@ -136,6 +139,8 @@ class Scene:
             out["body"] = {"width": self.surface.w}
         else:
             out["surface"] = {"kind": "uniform"}
+        if self.friction.kind != "coulomb":
+            out["friction"] = self.friction.params()
         out["start"] = {"x0": self.x0, "v0": self.v0, "phase": self.phase}
         out["horizon"] = ({"periods": int(self.periods)} if self.until == "periods"
                           else {"until": "rest", "max_periods": int(self.max_periods)})

@@ -18,13 +18,13 @@ import time
 
 import numpy as np
 
-from ..model.friction import StopZone, coefficient
+from ..model.friction import FrictionLaw, StopZone, coefficient
 from ..model.profiles import Profile
 from ..model.scene import Scene
 from . import exact, moreau
 from . import records as R
 from .jit import call, kernel
-from .methods import check_scene, resolve
+from .methods import check_scene, friction_refused, resolve
 from .outcomes import MAX_CYCLE, Reason, Status
 from .results import BatchResult, Trajectory, outcome_message
 
@@ -59,7 +59,13 @@ def _scene_member(scene: Scene) -> tuple[np.ndarray, float]:
         origin = scene.x0
         m["w"], m["c_mu"] = math.inf, 1.0
     m["xi"], m["v"], m["tau0"] = scene.x0 - origin, scene.v0, scene.phase * scene.profile.dt
+    _set_friction(members, scene.friction)
     return members, origin
+
+
+def _set_friction(members: np.ndarray, law: FrictionLaw) -> None:
+    """The friction-law inputs of member records (the paper's Coulomb law: r = 1, no Stribeck)."""
+    members["static_ratio"], members["v_s"], members["delta"] = law.ratio, law.v_s, law.delta
 
 
 class _Prepared:
@@ -279,16 +285,17 @@ def dense_series(scene: Scene, period, tau, x, v, mode) -> dict:
     """``t`` and the recorded series of a scene at states (period, tau, x, v), x absolute.
 
     ``mode`` None: the mode of the model at each state (slip in the direction of v; at
-    v = 0 stick iff |y''| <= mu_bar, else slip -sign(y''), :func:`decide_mode`).  The
-    friction force is F = mu_bar mode in slip and -y'' in stick (eq. 5).
+    v = 0 stick iff |y''| <= r mu_bar, else slip -sign(y''), :func:`decide_mode`).  The
+    friction force is F = mu_bar mu(v) mode in slip (mu(v) = 1 but for Stribeck friction)
+    and -y'' in stick (eq. 5).
     """
-    profile, surface = scene.profile, scene.surface
+    profile, surface, law = scene.profile, scene.surface, scene.friction
     period, tau = np.asarray(period), np.asarray(tau, dtype=float)
     x, v = np.asarray(x, dtype=float), np.asarray(v, dtype=float)
     ydd = np.asarray(profile.acceleration(tau), dtype=float) + 0.0 * tau
     mu = surface.coefficient(x) if isinstance(surface, StopZone) else np.ones_like(x)
     if mode is None:
-        mode = call(kernel().modes, v, ydd, mu)
+        mode = call(kernel().modes, v, ydd, law.ratio * mu)
     mode = np.asarray(mode, dtype=np.int8)
     available = {
         "x": lambda: x,
@@ -296,7 +303,7 @@ def dense_series(scene: Scene, period, tau, x, v, mode) -> dict:
         "y": lambda: np.asarray(profile.position(tau), dtype=float),
         "yd": lambda: np.asarray(profile.velocity(tau), dtype=float),
         "ydd": lambda: ydd,
-        "friction": lambda: np.where(mode == 0, -ydd, mode * mu),
+        "friction": lambda: np.where(mode == 0, -ydd, mode * mu * law.factor(v)),
         "mode": lambda: mode,
     }
     out = {"t": period * profile.dt + tau}
@@ -362,7 +369,7 @@ def _horizon(until, periods, max_periods) -> tuple[int, int]:
 def simulate_batch(profiles, x0, v0=0.0, phase=0.0, *, profile_index=None, surface=None, x_mu=None, w=None,
                    c_mu=None, levels=None, until: str = "rest", periods: int | None = None,
                    max_periods: int = 10_000, method: str = "exact", max_cycle: int = MAX_CYCLE,
-                   fast_forward: bool = True, **options) -> BatchResult:
+                   fast_forward: bool = True, friction: FrictionLaw | None = None, **options) -> BatchResult:
     """Many trajectories through the same compiled driver as :func:`simulate`.
 
     ``profiles``: one profile, a sequence of profiles, or a
@@ -376,9 +383,16 @@ def simulate_batch(profiles, x0, v0=0.0, phase=0.0, *, profile_index=None, surfa
     (at most ``max_periods``) or "stick" (the first stick event).  ``options``: those of
     ``method`` (:mod:`selfalign.solvers.methods`).  ``max_cycle``: the longest period of
     a repeating motion that is recognised; ``fast_forward=False`` simulates every period
-    even when the period-boundary state repeats (benchmarks).
+    even when the period-boundary state repeats (benchmarks).  ``friction``: the
+    :class:`~selfalign.model.friction.FrictionLaw` of every member (default Coulomb).
     """
     options = resolve(method, options)
+    friction = FrictionLaw() if friction is None else friction
+    if not isinstance(friction, FrictionLaw):
+        raise ValueError(f"friction must be a FrictionLaw, got {type(friction).__name__}")
+    refused = friction_refused(method, friction, options)
+    if refused:
+        raise ValueError(refused)
     if method == "ivp":
         raise ValueError("simulate_batch runs the compiled methods 'exact' and 'moreau'; use simulate for 'ivp'")
     until_code, total = _horizon(until, periods, max_periods)
@@ -424,6 +438,7 @@ def simulate_batch(profiles, x0, v0=0.0, phase=0.0, *, profile_index=None, surfa
         members["w"] = np.where(members["zone"], w_arr, np.inf)
         members["c_mu"] = c_arr
     members["profile"] = index
+    _set_friction(members, friction)
     members["xi"] = x0 - origin
     members["v"] = _member_array("v0", v0, size)
     members["tau0"] = phase * dt

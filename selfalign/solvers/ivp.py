@@ -4,7 +4,8 @@ The inclusion x'' + y''(t) in -mu_bar(x) Sign(x') (eqs. 6, 38) is integrated one
 piece at a time in the current mode:
 
 * forward slip (v > 0):  x'' = -y'' - mu_bar(x);  backward slip (v < 0): x'' = -y'' + mu_bar(x);
-* stick (v = 0): x'' = 0.
+  under Stribeck friction mu_bar(x) times mu(v) / mu_k (:func:`selfalign.model.friction.stribeck_factor`);
+* stick (v = 0): x'' = 0, while |y''| <= r mu_bar(x) (r = mu_s / mu_k, 1 for Coulomb friction).
 
 A piece ends at a profile switch time (piecewise-constant profiles), at a period boundary
 (the start phase), or at a terminal event located by solve_ivp:
@@ -15,7 +16,7 @@ A piece ends at a profile switch time (piecewise-constant profiles), at a period
 * in stick on a smooth (Fourier) profile, |y''| crossing mu_bar upwards (two events
   y'' -/+ mu_bar), integrated on the trivial ODE with max_step = dt / (16 * order) so
   that no crossing of the trigonometric polynomial is stepped over.  On piecewise-constant
-  profiles stick is left at the first piece with |y''| > mu_bar, without integration.
+  profiles stick is left at the first piece with |y''| > r mu_bar, without integration.
 
 At v = 0 the mode is decided like the model (:func:`selfalign.model.friction.decide_mode`).
 Velocities are set to exactly 0 at v = 0 events and positions exactly onto a zone
@@ -38,7 +39,7 @@ import math
 
 import numpy as np
 
-from ..model.friction import StopZone, coefficient, decide_mode
+from ..model.friction import StopZone, coefficient, decide_mode, stribeck_factor
 from . import records as R
 from .jit import call, kernel
 from .outcomes import HIGH, LOW, MAX_CYCLE, STALL_EVENTS, ZONE, EventKind, Reason
@@ -61,6 +62,7 @@ class _Run:
         self.dt = profile.dt
         self.surface = scene.surface
         self.zone = isinstance(scene.surface, StopZone)
+        self.law = scene.friction
         self.rtol, self.atol, self.integrator = options["rtol"], options["atol"], options["integrator"]
         self.piecewise = profile.piecewise_constant
         if self.piecewise:
@@ -102,10 +104,17 @@ class _Run:
         """Mode at (tau, x, v): sign(v), or at v = 0 the stick/slip rule of the model."""
         if v != 0.0:
             return 1 if v > 0 else -1
-        return decide_mode(self.acceleration(tau), self.mu_bar(x))
+        return decide_mode(self.acceleration(tau), self.law.ratio * self.mu_bar(x))
+
+    def slip_friction(self, x, v):
+        """Friction magnitude in slip at (x, v): mu_bar(x), times mu(v)/mu_k under Stribeck friction."""
+        law = self.law
+        if law.stribeck:
+            return self.mu_bar(x) * stribeck_factor(abs(v), law.ratio, law.v_s, law.delta)
+        return self.mu_bar(x)
 
     def xdd(self, tau, x, mode):
-        return 0.0 if mode == 0 else -self.acceleration(tau) - mode * self.mu_bar(x)
+        return 0.0 if mode == 0 else -self.acceleration(tau) - mode * self.slip_friction(x, self.v)
 
     def region(self, x0, x1):
         if not self.zone or max(x0, x1) <= 0.0:
@@ -193,7 +202,7 @@ class _Run:
             self.sample(tau_a, tau_b, lambda g: (np.full(g.size, x), np.zeros(g.size)))
             self.moved(x, x)
             return self.finish_piece(tau_b, None)
-        mu = self.mu_bar(x)
+        mu = self.law.ratio * self.mu_bar(x)          # the static limit
         sol = solve_ivp(lambda t, y: (0.0, 0.0), (tau_a, tau_b), [x, 0.0], method=self.integrator,
                         rtol=self.rtol, atol=self.atol, max_step=self.stick_max_step,
                         events=[_event(lambda t, y: self.acceleration(t) - mu, 1),
@@ -223,13 +232,15 @@ class _Run:
         from scipy.integrate import solve_ivp
 
         s = float(self.mode)
-        mu_bar = self.mu_bar
+        coefficient_at = self.mu_bar
+        # Stribeck friction depends on v; Coulomb and static/kinetic slip on x alone.
+        mu_bar = self.slip_friction if self.law.stribeck else lambda x, v: coefficient_at(x)  # noqa: E731
         if self.piecewise:
             a = self.acceleration(tau_a)
-            rhs = lambda t, y: (y[1], -a - s * mu_bar(y[0]))  # noqa: E731
+            rhs = lambda t, y: (y[1], -a - s * mu_bar(y[0], y[1]))  # noqa: E731
         else:
             acc = self.acceleration
-            rhs = lambda t, y: (y[1], -acc(t) - s * mu_bar(y[0]))  # noqa: E731
+            rhs = lambda t, y: (y[1], -acc(t) - s * mu_bar(y[0], y[1]))  # noqa: E731
         events = [_event(lambda t, y: y[1], -s)]
         bounds = (0.0, self.surface.w) if self.zone else ()
         for b in bounds:

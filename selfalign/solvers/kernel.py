@@ -198,9 +198,10 @@ def _region(s, xi, mode):
 
 @jit
 def _holds(s, mu):
-    """Whether friction mu_bar holds a stuck mass for good: mu_bar >= max|y''| (exact
-    solvers).  Moreau passes its own test, the step's (:func:`_period_moreau`)."""
-    return mu >= s.rest_acc
+    """Whether friction mu_bar holds a stuck mass for good: r mu_bar >= max|y''| (exact
+    solvers; r = mu_s / mu_k, 1 for the paper's Coulomb law).  Moreau passes its own test,
+    the step's (:func:`_period_moreau`)."""
+    return s.static_ratio * mu >= s.rest_acc
 
 
 @jit
@@ -334,6 +335,7 @@ def _period_piecewise(s, row, until, max_events, bnd, cross, record, arcs, event
     tail = tau0 > row[b0 + i0]
     nseg = m + 1 if tail else m
     zone, w, om, b1 = s.zone, s.w, s.omega, s.b1
+    r_static = s.static_ratio               # stick while |y''| <= r mu_bar; slip arcs use mu_bar
     lowest = _next_boundary(bnd, cross)
     xi, v, mode, n = s.xi, s.v, s.mode, s.n
     count = s.events
@@ -372,7 +374,7 @@ def _period_piecewise(s, row, until, max_events, bnd, cross, record, arcs, event
                 _record_event(events, s, dt, _SWITCH, nn, ts, xi, v, mode, mode, acc_b, acc_a)
             if mode == 0 or v == 0.0:            # tie rule 3: re-decide at v = 0
                 mu = _mu(s, xi)
-                new = F.decide_mode(a, mu)
+                new = F.decide_mode(a, r_static * mu)
                 if new != mode:
                     count += 1
                     if record:
@@ -453,7 +455,7 @@ def _period_piecewise(s, row, until, max_events, bnd, cross, record, arcs, event
                 xi = xi_new
                 v = 0.0
                 mu = _mu(s, xi)
-                new = F.decide_mode(a, mu)
+                new = F.decide_mode(a, r_static * mu)
                 if record:
                     _record_event(events, s, dt, _STICK if new == 0 else _REVERSAL, nn, ts + s0, xi,
                                            0.0, mode, new, A.acceleration(kind, b1, acc0, dx),
@@ -502,18 +504,19 @@ def _fourier(row, t):
 
 
 @jit
-def _event_function(kind, row, t0, s, sign, v, s0, yd0):
-    """Event functions of the smooth stepper: kind 0, |y''| crossing mu_bar = 1 upwards
-    while stuck (sign sgn(y'')); kind 1, the relative velocity of a slip in direction
-    ``sign`` from (s0, v): x' = v - sign (s - s0) - (y'(t0 + s) - y'(t0 + s0)), signed."""
+def _event_function(kind, row, t0, s, sign, v, s0, yd0, limit):
+    """Event functions of the smooth stepper: kind 0, |y''| crossing the stick limit
+    ``limit`` = r mu_bar = r upwards while stuck (sign sgn(y'')); kind 1, the relative
+    velocity of a slip in direction ``sign`` from (s0, v): x' = v - sign (s - s0) -
+    (y'(t0 + s) - y'(t0 + s0)), signed."""
     y, yd, ydd = _fourier(row, t0 + s)
     if kind == 0:
-        return sign * ydd - 1.0
+        return sign * ydd - limit
     return sign * (v - sign * (s - s0) - (yd - yd0))
 
 
 @jit
-def _brent(kind, row, t0, sign, v, s0, yd0, xa, xb, xtol, rtol):
+def _brent(kind, row, t0, sign, v, s0, yd0, limit, xa, xb, xtol, rtol):
     """Root of :func:`_event_function` in [xa, xb] (a sign change) by Brent's method, as
     scipy.optimize.brentq (same steps), to |error| <= xtol + rtol |x|."""
     xpre, xcur = xa, xb
@@ -521,8 +524,8 @@ def _brent(kind, row, t0, sign, v, s0, yd0, xa, xb, xtol, rtol):
     fblk = 0.0
     spre = 0.0
     scur = 0.0
-    fpre = _event_function(kind, row, t0, xpre, sign, v, s0, yd0)
-    fcur = _event_function(kind, row, t0, xcur, sign, v, s0, yd0)
+    fpre = _event_function(kind, row, t0, xpre, sign, v, s0, yd0, limit)
+    fcur = _event_function(kind, row, t0, xcur, sign, v, s0, yd0, limit)
     if fpre == 0.0:
         return xpre
     if fcur == 0.0:
@@ -556,7 +559,7 @@ def _brent(kind, row, t0, sign, v, s0, yd0, xa, xb, xtol, rtol):
             xcur += scur
         else:
             xcur += delta if sbis > 0.0 else -delta
-        fcur = _event_function(kind, row, t0, xcur, sign, v, s0, yd0)
+        fcur = _event_function(kind, row, t0, xcur, sign, v, s0, yd0, limit)
     return xcur
 
 
@@ -606,13 +609,14 @@ def _period_smooth(s, row, until, max_events, bnd, cross, record, arcs, events, 
     s0 = 0.0
     g = grid.shape[0]
     lowest = _next_boundary(bnd, cross)
+    limit = s.static_ratio              # stick while |y''| <= r mu_bar (mu_bar = 1 here)
     while True:
         k0 = 0
         while k0 < g and grid[k0] <= s0:
             k0 += 1
         if mode == 0:
             k = k0
-            while k < g and not abs(g_ydd[k]) > 1.0:
+            while k < g and not abs(g_ydd[k]) > limit:
                 k += 1
             if k >= g:
                 if record:
@@ -621,10 +625,10 @@ def _period_smooth(s, row, until, max_events, bnd, cross, record, arcs, events, 
                 break
             sgn = 1.0 if g_ydd[k] > 0.0 else -1.0
             left = max(s0, grid[k - 1])
-            if _event_function(0, row, tau0, left, sgn, 0.0, 0.0, 0.0) >= 0.0:
+            if _event_function(0, row, tau0, left, sgn, 0.0, 0.0, 0.0, limit) >= 0.0:
                 root = left
             else:
-                root = _brent(0, row, tau0, sgn, 0.0, 0.0, 0.0, left, grid[k], xtol, rtol)
+                root = _brent(0, row, tau0, sgn, 0.0, 0.0, 0.0, limit, left, grid[k], xtol, rtol)
             new = -int(sgn)
             if record:
                 _record_arc(arcs, s, dt, _STICK_ARC, n, tau0 + s0, root - s0, xi, 0.0, 0.0, _NAN, 0.0, 0, LOW)
@@ -648,7 +652,7 @@ def _period_smooth(s, row, until, max_events, bnd, cross, record, arcs, events, 
                 found = False
             else:
                 left = grid[k - 1] if k > k0 else s0
-                root = _brent(1, row, tau0, sigma, v, s0, yd0, left, grid[k], xtol, rtol)
+                root = _brent(1, row, tau0, sigma, v, s0, yd0, limit, left, grid[k], xtol, rtol)
                 found = True
             d = root - s0
             y1, yd1, ydd1 = _fourier(row, tau0 + root)
@@ -672,7 +676,7 @@ def _period_smooth(s, row, until, max_events, bnd, cross, record, arcs, events, 
                 break
             s.events += 1
             v, s0 = 0.0, root
-            new = F.decide_mode(ydd1, 1.0)
+            new = F.decide_mode(ydd1, limit)
             if record:
                 _record_event(events, s, dt, _STICK if new == 0 else _REVERSAL, n, tau0 + root, xi, 0.0,
                                        mode, new, -ydd1 - sigma, 0.0 if new == 0 else -ydd1 - new)
@@ -731,6 +735,35 @@ def _impulse(s, v_free, bound, fixed_point, fp_tol, fp_max_iter):
 
 
 @jit
+def _stribeck_speed(u, bound, ratio, v_s, delta):
+    """The slip speed c > 0 of an implicit Moreau step under Stribeck friction: the root of
+    c + bound f(c) = u, f = :func:`~selfalign.model.friction.stribeck_factor`, for a free
+    speed u > bound r (else the step sticks).  f(0) = r and f >= 1 bracket it in
+    (0, u - bound]; Newton's method kept inside the bracket (bisection where a Newton step
+    leaves it) refines it to rounding.  The root is unique while h mu_bar max|f'| < 1."""
+    lo = 0.0
+    hi = u - bound
+    c = hi
+    for _ in range(200):
+        e = math.exp(-((c / v_s) ** delta)) if c > 0.0 else 1.0
+        g = c + bound * (1.0 + (ratio - 1.0) * e) - u
+        if g == 0.0:
+            return c
+        if g > 0.0:
+            hi = c
+        else:
+            lo = c
+        slope = 1.0 - bound * (ratio - 1.0) * e * delta * (c / v_s) ** delta / c if c > 0.0 else 0.0
+        c_new = c - g / slope if slope > 0.0 else 0.5 * (lo + hi)
+        if not lo < c_new < hi:
+            c_new = 0.5 * (lo + hi)
+        if c_new == c or hi - lo <= 4.0 * _EPS * hi:
+            return c_new
+        c = c_new
+    return c
+
+
+@jit
 def _step_region(s, x):
     if not s.zone or x <= 0.0:
         return LOW
@@ -748,6 +781,9 @@ def _period_moreau(s, row, until, bnd, cross, record, samples, sample_steps, fix
     half = 0.5 * h
     tau0 = s.tau0
     xi, v, n = s.xi, s.v, s.n
+    r_static = s.static_ratio      # stick window r h mu_bar; slip against h mu_bar (Stribeck: h mu_bar f(v))
+    static = r_static > 1.0
+    stribeck = s.v_s > 0.0
     dxp = 0.0
     lo = 0.0
     hi = 0.0
@@ -760,7 +796,7 @@ def _period_moreau(s, row, until, bnd, cross, record, samples, sample_steps, fix
         if v == 0.0:
             # Stuck: a step is the identity while |impulse| <= h mu_bar (v* = -impulse lies in
             # the stick window), so jump to the first step that can start a slip.
-            bound = h * _mu(s, xi)
+            bound = h * _mu(s, xi) * r_static
             k_next = k
             while k_next < nsteps and abs(row[d0 + k_next]) <= bound:
                 k_next += 1
@@ -778,7 +814,14 @@ def _period_moreau(s, row, until, bnd, cross, record, samples, sample_steps, fix
         x_mid = xi + half * v
         mu = _mu(s, x_mid)
         regions |= 1 << _step_region(s, x_mid)
-        v_new = _impulse(s, v - row[d0 + k], h * mu, fixed_point, fp_tol, fp_max_iter)
+        v_free = v - row[d0 + k]
+        if static and v_free * v <= 0.0 and abs(v_free) <= h * mu * r_static:
+            v_new = 0.0                 # static friction holds a mass that is stuck or comes to rest
+        elif stribeck:
+            v_new = 0.0 if abs(v_free) <= h * mu * r_static else math.copysign(
+                _stribeck_speed(abs(v_free), h * mu, r_static, s.v_s, s.delta), v_free)
+        else:
+            v_new = _impulse(s, v_free, h * mu, fixed_point, fp_tol, fp_max_iter)
         x_new = x_mid + half * v_new
         s.steps += 1
         dx = x_new - xi
@@ -796,7 +839,7 @@ def _period_moreau(s, row, until, bnd, cross, record, samples, sample_steps, fix
         k += 1
         if v == 0.0 and was_moving:
             mu_x = _mu(s, xi)
-            code = _on_stick(s, xi, mu_x, n, tau0 + k * h, until, h * mu_x >= largest)
+            code = _on_stick(s, xi, mu_x, n, tau0 + k * h, until, h * mu_x * r_static >= largest)
             if code != DONE:
                 s.dxp, s.lo, s.hi, s.regions = dxp, lo, hi, regions
                 return _stop(s, code, xi, 0.0, 0, n, tau0 + k * h, dt)
@@ -816,7 +859,8 @@ def _prepare(s, row, method, acc_tol):
     s.b1 = (s.c_mu - 1.0) / s.w if s.zone else 0.0
     s.omega = math.sqrt(s.b1)
     s.rest_acc = row[R.REST_ACC]
-    s.xs = F.stick_limit(row[R.REST_ACC], s.w, s.c_mu) if s.zone else _INF
+    # Permanent stick needs r mu_bar >= max|y''|: eq. (41) for max|y''| / r.
+    s.xs = F.stick_limit(row[R.REST_ACC] / s.static_ratio, s.w, s.c_mu) if s.zone else _INF
     s.acc_tol = max(acc_tol, ACC_TOL_ULPS * _EPS * s.w) if s.zone else acc_tol
     s.n, s.fresh, s.events, s.steps = 0, True, 0, 0
     s.sticks, s.zone_sticks, s.nh = 0, 0, 0
@@ -841,8 +885,8 @@ def _start(s, a, until, moreau, holds_scale):
         s.mode = 1 if s.v > 0.0 else -1
         return DONE
     mu = _mu(s, s.xi)
-    s.mode = 0 if moreau else F.decide_mode(a, mu)
-    holds = holds_scale[0] * mu >= holds_scale[1] if moreau else _holds(s, mu)
+    s.mode = 0 if moreau else F.decide_mode(a, s.static_ratio * mu)
+    holds = holds_scale[0] * mu * s.static_ratio >= holds_scale[1] if moreau else _holds(s, mu)
     if s.mode == 0 and holds:
         s.at_rest = True
         if until != R.UNTIL_PERIODS:

@@ -68,6 +68,21 @@ class Method:
     refuses: Callable = lambda scene: None
 
 
+def friction_refused(method: str, friction, options: dict) -> str | None:
+    """Why ``method`` with ``options`` cannot simulate the friction law ``friction``, or None.
+    Static/kinetic friction every method simulates; Stribeck friction has no closed-form arcs."""
+    if not friction.stribeck:
+        return None
+    if method == "exact":
+        return ("method 'exact' cannot simulate Stribeck friction (friction.kind: stribeck): slip under "
+                "mu(v) = mu_k + (mu_s - mu_k) exp(-(|v|/v_s)^delta) has no closed-form arcs; use method 'ivp' "
+                "or 'moreau'")
+    if method == "moreau" and options.get("iteration") == "fixed_point":
+        return ("option iteration 'fixed_point' cannot solve the implicit step under Stribeck friction "
+                "(friction.kind: stribeck); use iteration 'exact', which solves it for the smooth law")
+    return None
+
+
 def _exact_refuses(scene):
     if isinstance(scene.profile, FourierProfile) and isinstance(scene.surface, StopZone):
         return ("method 'exact' cannot simulate a Fourier profile on a stop zone (no closed-form arcs with "
@@ -153,7 +168,7 @@ def check_scene(scene, method: str | None = None, options: dict | None = None) -
     the reason otherwise."""
     method = scene.method if method is None else method
     options = resolve(method, scene.solver_options if options is None else options)
-    reason = METHODS[method].refuses(scene)
+    reason = METHODS[method].refuses(scene) or friction_refused(method, scene.friction, options)
     if reason:
         raise ValueError(reason)
     if method == "moreau":

@@ -42,6 +42,7 @@ MEMBER_DTYPE = np.dtype([
     # inputs
     ("profile", "i8"), ("xi", "f8"), ("v", "f8"), ("tau0", "f8"),
     ("zone", "?"), ("w", "f8"), ("c_mu", "f8"),
+    ("static_ratio", "f8"), ("v_s", "f8"), ("delta", "f8"),     # friction law: r = mu_s/mu_k; Stribeck if v_s > 0
     # derived at the start of the run
     ("b1", "f8"), ("omega", "f8"), ("xs", "f8"), ("acc_tol", "f8"), ("rest_acc", "f8"),
     # working state
