@@ -162,16 +162,24 @@ class Screen:
 
 
 def _moves_and_holds(spec: DesignSpec, cand: Candidates, mus) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(moves at every mu, holds at every mu, slowest vbar [m/s]) of the physical candidates."""
-    moves = np.ones(len(cand), dtype=bool)
-    vbar_min = np.full(len(cand), np.inf)
+    """(moves at every mu, holds at every mu, slowest vbar [m/s]; -inf where it does not move or
+    hold) of the physical candidates.  The extremes of ``mus`` come first and each mu evaluates
+    only the candidates still alive, so most are dropped after one or two."""
     top = np.maximum(cand.y2, cand.y3)
     holds = top <= cand.c_mu * float(np.min(mus)) * spec.g  # mu_bar >= max |y''| somewhere (eq. 41)
-    for mu in mus:
-        ss = steady_state_grid(*dimensionless(spec, cand, mu))
+    moves = holds.copy()
+    vbar_min = np.where(holds, np.inf, -np.inf)
+    mus = np.asarray(mus, dtype=float)
+    ordered = np.concatenate([[mus.max(), mus.min()], mus[(mus != mus.max()) & (mus != mus.min())]])
+    for mu in ordered:
+        alive = np.flatnonzero(moves)
+        if alive.size == 0:
+            break
+        ss = steady_state_grid(*dimensionless(spec, cand.take(alive), mu))
         v = ss.vbar * scale(spec, mu).unit("velocity")
-        moves &= (ss.case > 0) & (v > 0)
-        vbar_min = np.minimum(vbar_min, np.where(np.isnan(v), -np.inf, v))
+        ok = (ss.case > 0) & (v > 0)
+        moves[alive] = ok
+        vbar_min[alive] = np.where(ok, np.minimum(vbar_min[alive], v), -np.inf)
     return moves, holds, vbar_min
 
 
@@ -421,6 +429,10 @@ class Design:
     def case_label(self) -> str:
         return CASE_LABELS[self.case]
 
+    @property
+    def assumptions(self) -> tuple[str, ...]:
+        return ASSUMPTIONS
+
     def profile_at(self, mu: float) -> ThreePhaseProfile:
         """The dimensionless profile the model sees at friction coefficient ``mu`` (L = width)."""
         cand = Candidates(*(np.array([v]) for v in (self.period, self.stroke, self.y2, self.y3, self.c_mu)))
@@ -656,3 +668,54 @@ def _front_time_error(spec, cand, scr, ok) -> dict:
     return {"period": cand.period[members], "stroke": cand.stroke[members], "y2": cand.y2[members],
             "y3": cand.y3[members], "c_mu": cand.c_mu[members], "t_estimate": scr.t_estimate[members],
             "spread": end_spread(spec, cand.take(members)), **sim}
+
+
+@dataclass(frozen=True)
+class DesignMap:
+    """The design map over (y2'', y3'') at the chosen period, stroke and c_mu.
+
+    ``y2``, ``y3`` (n,) [m/s^2]: the axes (y2'' along the first index); (n, n) arrays:
+    ``case`` (Table 1 at the nominal mu), ``physical``, ``moves`` (forward at every mu),
+    ``holds`` (the strip holds at every mu), ``screened`` (every closed-form condition of
+    :class:`Screen`), ``sufficient`` (Sect. 7.3 at the nominal mu: 1 holds, 0 fails, -1 n/a),
+    ``frac_accumulate``, ``frac_stop`` (simulated at the nominal mu with ``entries`` entries;
+    NaN where the part does not move forward).
+    """
+
+    y2: np.ndarray
+    y3: np.ndarray
+    case: np.ndarray
+    physical: np.ndarray
+    moves: np.ndarray
+    holds: np.ndarray
+    screened: np.ndarray
+    sufficient: np.ndarray
+    frac_accumulate: np.ndarray
+    frac_stop: np.ndarray
+
+
+def design_map(result: Design, *, n: int = 41, entries: int = 32, progress: str = "auto") -> DesignMap:
+    """:class:`DesignMap` of ``result`` on an n x n grid up to the actuator's |y''| limit."""
+    if result.verification is None:
+        raise ValueError("design_map needs a design with a chosen period and stroke (no candidate was checked)")
+    spec = result.spec
+    axis = spec.max_acceleration * np.arange(1, n + 1) / n
+    y2, y3 = np.meshgrid(axis, axis, indexing="ij")
+    cand = Candidates(np.full(y2.size, result.period), np.full(y2.size, result.stroke), y2.ravel(), y3.ravel(),
+                      np.full(y2.size, result.c_mu))
+    scr = screen(spec, cand)
+    dims = dimensionless(spec, cand, spec.mu)
+    physical = scr.physical
+    case = np.zeros(y2.size, np.int8)
+    grid = positioning_grid(*(d[physical] for d in dims), w=1.0, c_mu=result.c_mu, n_entries=entries,
+                            progress=progress)
+    case[physical] = grid.case
+    frac = {key: np.full(y2.size, np.nan) for key in ("frac_accumulate", "frac_stop")}
+    for key in frac:
+        frac[key][physical] = getattr(grid, key)
+    sufficient = np.full(y2.size, -1, np.int8)
+    for i in np.flatnonzero(case > 0):
+        sufficient[i] = sufficient_condition(ThreePhaseProfile(*(float(d[i]) for d in dims)), result.c_mu)
+    square = lambda a: a.reshape(n, n)  # noqa: E731
+    return DesignMap(axis, axis, square(case), square(physical), square(scr.moves), square(scr.holds),
+                     square(scr.ok), square(sufficient), square(frac["frac_accumulate"]), square(frac["frac_stop"]))
