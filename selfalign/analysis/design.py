@@ -17,7 +17,8 @@ vbar > 0, :func:`~selfalign.analysis.steady_state.steady_state_grid`), a strip t
 the part (max(A2, A3) <= c_mu mu' g, eq. 41) and, where accumulation is asked for, y2'' > y3''
 (README "Where the paper is wrong or imprecise (Sect. 7)": no setting with y3'' > y2''
 accumulates) and an end position x_stick_min (eq. 41) that moves with mu by at most the
-tolerance.  Survivors are ranked by the closed-form process time D / min vbar and verified
+tolerance.  Survivors are ranked by a closed-form process time (distance to travel over the
+slowest vbar, :class:`Screen`) and verified
 with the engine, best first.
 
 Guarantee (per candidate, :func:`verify`).  At ``mu_samples`` values of mu (both extremes
@@ -138,13 +139,15 @@ def end_spread(spec: DesignSpec, cand: Candidates) -> np.ndarray:
 class Screen:
     """Closed-form conditions per candidate over the dense mu sample (see the module docstring).
 
-    ``physical``, ``moves`` (forward at every mu), ``holds`` (the strip can hold the part at
-    every mu), ``shape`` (y2'' > y3'' where accumulation is asked for, else True), ``within``
-    (x_stick_min moves by at most the tolerance, accumulation only, else True); ``ok``: all
+    ``physical``, ``holds`` (the strip can hold the part at every mu), ``moves`` (forward at
+    every mu; evaluated only where it holds, False elsewhere), ``shape`` (y2'' > y3'' where
+    accumulation is asked for, else True), ``within`` (x_stick_min moves by at most the
+    tolerance, accumulation only, else True); ``ok``: all
     of these; ``short_slip``: omega (t2 - t1) < pi / 2 at mu_max, omega = sqrt((c_mu - 1) mu g / w),
     necessary for the sufficient condition of Sect. 7.3 (cos(omega (t2 - t1)) > (y2'' - mu g) /
     (2 (y2'' + y3'')) > 0, eq. 59) and used to order the candidates, not to exclude any;
-    ``vbar_min`` [m/s] the slowest steady state over mu; ``t_estimate`` [s] = D / vbar_min.
+    ``vbar_min`` [m/s] the slowest steady state over mu; ``t_estimate`` [s] = (D + x_stick_min(mu_max)
+    - tolerance) / vbar_min, the closed-form process time.
     """
 
     physical: np.ndarray
@@ -193,8 +196,11 @@ def screen(spec: DesignSpec, cand: Candidates) -> Screen:
     moves[idx], holds[idx], vbar_min[idx] = m, h, v
     shape = cand.y2 > cand.y3 if spec.accumulation else np.ones(n, bool)
     within = end_spread(spec, cand) <= spec.tolerance if spec.accumulation else np.ones(n, bool)
+    # A lower bound of the process time: the part covers the distance and, in the strip, at least
+    # x_stick_min (eq. 41) at mu_max less the tolerance, at no more than the slowest steady speed.
+    inside = spec.width * (np.maximum(cand.y2, cand.y3) / (spec.mu_range[1] * spec.g) - 1.0) / (cand.c_mu - 1.0)
     with np.errstate(divide="ignore", invalid="ignore"):
-        t_est = np.where(moves, spec.distance / vbar_min, np.inf)
+        t_est = np.where(moves, (spec.distance + np.maximum(inside - spec.tolerance, 0.0)) / vbar_min, np.inf)
     return Screen(physical, moves, holds, shape, within, slip_phase(spec, cand) < 0.5 * math.pi, vbar_min, t_est)
 
 
@@ -303,11 +309,9 @@ def verify(spec: DesignSpec, cand: Candidates, n_entries: int | None = None) -> 
                 sufficient[i, j] = sufficient_condition(profile, float(cand.c_mu[i]))
     stops = np.all((out["frac_accumulate"] + out["frac_stop"]) == 1.0, axis=1)
     accumulates = np.all(out["frac_accumulate"] == 1.0, axis=1)
-    with np.errstate(invalid="ignore"):
-        lo, hi = np.nanmin(np.where(stops[:, None], out["end_min"], np.nan), axis=1, initial=np.inf), \
-            np.nanmax(np.where(stops[:, None], out["end_max"], np.nan), axis=1, initial=-np.inf)
-    x_d = np.where(stops, 0.5 * (lo + hi), np.nan)
-    error = np.where(stops, 0.5 * (hi - lo), np.nan)
+    lo = np.where(stops, np.min(np.where(stops[:, None], out["end_min"], 0.0), axis=1), np.nan)
+    hi = np.where(stops, np.max(np.where(stops[:, None], out["end_max"], 0.0), axis=1), np.nan)
+    x_d, error = 0.5 * (lo + hi), 0.5 * (hi - lo)
     process_stops = _process_runs(spec, cand, mus, dims, x_d, stops, out)
     within = error <= spec.tolerance
     in_time = np.ones(k, bool) if spec.max_process_time is None else np.all(out["t_arrive"] <= spec.max_process_time,
@@ -500,18 +504,18 @@ def _explain(spec: DesignSpec, cand: Candidates, scr: Screen, checked: Verificat
         return (f"no physical profile in the limits (Sect. 5.1: 8 dy (1/y2'' + 1/y3'') <= dt^2): at the longest "
                 f"period {1e3 * p:.4g} ms and |y''| = {amax:g} m/s^2 the stroke must be <= {1e3 * largest:.4g} mm, "
                 f"the grid's smallest is {1e3 * float(cand.stroke.min()):.4g} mm")
-    if not (scr.physical & scr.moves).any():
-        need = hi * spec.g
-        if amax <= need:
-            return (f"the part moves forward at every mu only if y2'' > mu (1 + delta) g = {need:.4g} m/s^2; "
-                    f"the actuator allows at most {amax:g} m/s^2")
-        return "no profile in the limits moves the part forward at every mu of the range (closed-form steady state)"
     c_max = spec.c_mu[1]
     if not (scr.physical & scr.moves & scr.holds).any():
-        ratio = hi / lo
-        return (f"stopping needs max(y2'', y3'') <= c_mu mu (1 - delta) g = {c_max * lo * spec.g:.4g} m/s^2 and moving "
-                f"needs y2'' > mu (1 + delta) g = {hi * spec.g:.4g} m/s^2: c_mu must exceed (1 + delta)/(1 - delta) = "
-                f"{ratio:.4g} (or delta be below (c_mu - 1)/(c_mu + 1) = {(c_max - 1) / (c_max + 1):.3g})")
+        if amax <= hi * spec.g:
+            return (f"the part moves forward at every mu only if y2'' > mu (1 + delta) g = {hi * spec.g:.4g} m/s^2; "
+                    f"the actuator allows at most {amax:g} m/s^2")
+        if c_max * lo <= hi:
+            return (f"stopping needs max(y2'', y3'') <= c_mu mu (1 - delta) g = {c_max * lo * spec.g:.4g} m/s^2 and "
+                    f"moving needs y2'' > mu (1 + delta) g = {hi * spec.g:.4g} m/s^2: c_mu must exceed (1 + delta)/"
+                    f"(1 - delta) = {hi / lo:.4g} (or delta be below (c_mu - 1)/(c_mu + 1) = "
+                    f"{(c_max - 1) / (c_max + 1):.3g})")
+        return (f"no profile in the limits both moves the part forward at every mu (closed-form steady state) and "
+                f"keeps max(y2'', y3'') <= c_mu mu (1 - delta) g = {c_max * lo * spec.g:.4g} m/s^2")
     base = scr.physical & scr.moves & scr.holds
     if spec.accumulation and not (base & scr.shape).any():
         return (f"accumulation needs y2'' > y3'' with y2'' > mu (1 + delta) g = {hi * spec.g:.4g} m/s^2, and no such "

@@ -280,7 +280,8 @@ QUANTITIES.update({
                                         {1: "holds", 0: "fails", -1: "eq. 59 does not apply"}),
     "verification/t_arrive": Quantity("si_time", "simulated time until within the tolerance of x_d at each mu"),
     "verification/t_rest": Quantity("si_time", "simulated time until rest or accumulation at each mu"),
-    "front_time_*/t_estimate": Quantity("si_time", "closed-form process time D / vbar_min"),
+    "front_time_*/t_estimate": Quantity("si_time", "closed-form process time (D + x_stick_min(mu_max) - tolerance) "
+                                                   "/ vbar_min"),
     "front_time_error/spread": Quantity("si_length", "half the range of x_stick_min (eq. 41) over the mu range"),
     "front_time_error/t_arrive": Quantity("si_time", "simulated worst time until within the tolerance of x_d (NaN: "
                                                      "not simulated)"),
