@@ -698,11 +698,15 @@ class DesignMap:
     frac_stop: np.ndarray
 
 
-def design_map(result: Design, *, n: int = 41, entries: int = 32, progress: str = "auto") -> DesignMap:
-    """:class:`DesignMap` of ``result`` on an n x n grid up to the actuator's |y''| limit."""
+def design_map(result: Design, *, refine: int = 1, entries: int = 32, progress: str = "auto") -> DesignMap:
+    """:class:`DesignMap` of ``result`` on the search grid's accelerations, each step divided into
+    ``refine`` (so the chosen design is a grid point), up to the actuator's |y''| limit."""
     if result.verification is None:
         raise ValueError("design_map needs a design with a chosen period and stroke (no candidate was checked)")
+    if int(refine) != refine or refine < 1:
+        raise ValueError(f"refine must be an integer >= 1, got {refine!r}")
     spec = result.spec
+    n = spec.grid.accelerations * int(refine)
     axis = spec.max_acceleration * np.arange(1, n + 1) / n
     y2, y3 = np.meshgrid(axis, axis, indexing="ij")
     cand = Candidates(np.full(y2.size, result.period), np.full(y2.size, result.stroke), y2.ravel(), y3.ravel(),
