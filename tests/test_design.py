@@ -204,3 +204,47 @@ def test_command_line_design(tmp_path):
     path.write_text(yaml.safe_dump(bad))
     run = click_testing.CliRunner().invoke(command, ["design", str(path), "--json"], standalone_mode=False)
     assert run.return_value == 1 and json.loads(run.output)["found"] is False
+
+
+def test_readme_worked_example_prints_what_it_says(monkeypatch):
+    """Hypothesis: the worked example of README "Designing a self-aligning station", run from the
+    repository top, prints exactly its "# -> " lines."""
+    import contextlib
+    import io
+    import re
+
+    text = (ROOT / "README.md").read_text()
+    section = re.search(r"^## Designing a self-aligning station\n(.*?)(?=^## )", text, re.S | re.M).group(1)
+    (block,) = re.findall(r"^```python\n(.*?)^```$", section, re.S | re.M)
+    monkeypatch.chdir(ROOT)
+    printed = io.StringIO()
+    with contextlib.redirect_stdout(printed):
+        exec(compile(block, "README design example", "exec"), {})
+    expected = [line.split("# -> ", 1)[1] for line in block.splitlines() if "# -> " in line]
+    assert printed.getvalue().splitlines() == expected
+
+
+def test_stage_writes_result_figure_and_recording(tmp_path):
+    """Hypothesis: the stage's steps run without Snakemake on a small spec: the result file holds the
+    chosen profile in SI with the design map, the figure draws from it, and the recorded stop of the
+    chosen design ends in accumulation at the x_d the design reported."""
+    pytest.importorskip("matplotlib")
+    from selfalign.io.hdf5 import read_h5, write_h5
+    from selfalign.stages.design import design_results, stop_recording, stop_scene
+    from selfalign.stages.figures import draw
+
+    path = tmp_path / "station.yaml"
+    path.write_text(yaml.safe_dump({**SPEC, "task": {**SPEC["task"], "accumulation": True}}))
+    content, result = design_results(path, map_refine=1, map_entries=8, progress="quiet")
+    write_h5(tmp_path / "station.h5", *content)
+    stored = read_h5(tmp_path / "station.h5")
+    assert stored["groups"]["profile"]["datasets"]["period"] == result.period
+    assert stored["groups"]["map"]["datasets"]["case"].shape == (6, 6)
+    fig = draw("design_station", [stored])
+    assert len(fig.axes) == 4  # three panels and the case colour bar
+    recording = stop_recording(stored)
+    assert recording.times.size > 100 and "position/events/accumulation_limit" in recording.markers
+    scene = stop_scene(stored)
+    end = sa.simulate(scene)
+    assert end.status is Status.ACCUMULATION
+    assert abs(end.x_end * result.spec.width - result.x_d) <= result.spec.tolerance
