@@ -248,3 +248,14 @@ def test_stage_writes_result_figure_and_recording(tmp_path):
     end = sa.simulate(scene)
     assert end.status is Status.ACCUMULATION
     assert abs(end.x_end * result.spec.width - result.x_d) <= result.spec.tolerance
+
+
+def test_robustness_objective_trades_time_for_margin():
+    """Hypothesis: asked for the largest mu margin within a process time, the tool returns a design
+    with a margin at least that of the fastest design and a simulated process time within the limit."""
+    fastest = design(DesignSpec(**COARSE, accumulation=True), progress="quiet")
+    limit = 3.0 * fastest.t_arrive
+    robust = design(DesignSpec(**COARSE, accumulation=True, objective="robustness", max_process_time=limit),
+                    progress="quiet")
+    assert robust.found and robust.margin >= fastest.margin and robust.t_arrive <= limit
+    assert robust.margin > fastest.margin or robust.t_arrive == fastest.t_arrive

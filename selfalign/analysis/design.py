@@ -578,19 +578,17 @@ def design(spec: DesignSpec, *, progress: str = "auto") -> Design:
             rank_short = np.full(order.size, np.inf)
             rank_short[short] = np.arange(int(short.sum()))
             order = order[np.argsort(np.minimum(rank, rank_short), kind="stable")]
-    chosen, checked, verified = None, [], 0
+    checked, verified, chosen = [], 0, None
     with Progress(min(order.size, spec.grid.max_verified), f"design {spec.name}", unit="candidates",
                   mode=progress) as bar:
         for begin in range(0, min(order.size, spec.grid.max_verified), BATCH):
             batch = order[begin:begin + BATCH]
-            ver = verify(spec, cand.take(batch))
+            checked.append((batch, verify(spec, cand.take(batch))))
             verified += batch.size
-            checked.append((batch, ver))
             bar.advance(int(batch.size))
-            good = np.flatnonzero(ver.guaranteed)
-            if good.size and _settled(spec, good, batch, ver, order, begin, scr, margin):
+            chosen = _choose(spec, checked, margin)
+            if chosen is not None and _settled(spec, chosen, order[begin + BATCH:], scr, margin):
                 break
-    chosen = _choose(spec, checked, margin)
     front_te = _front_time_error(spec, cand, scr, ok)
     keep = _pareto(scr.t_estimate[ok], -margin[ok])
     front_tm = {"period": cand.period[ok][keep], "stroke": cand.stroke[ok][keep], "y2": cand.y2[ok][keep],
@@ -603,7 +601,7 @@ def design(spec: DesignSpec, *, progress: str = "auto") -> Design:
         best = checked[0][0][:1] if checked else None
         explanation = _explain(spec, cand, scr, merged)
         if best is None:
-            return Design(spec, False, explanation, *(math.nan,) * 4, math.nan, 0, math.nan, math.nan, math.nan, None,
+            return Design(spec, False, explanation, *(math.nan,) * 5, 0, math.nan, math.nan, math.nan, None,
                           front_te, front_tm, search)
         index, ver = int(best[0]), _row(checked[0][1], 0)
     else:
@@ -617,16 +615,18 @@ def design(spec: DesignSpec, *, progress: str = "auto") -> Design:
                   float(margin[index]), ver, front_te, front_tm, search)
 
 
-def _settled(spec, good, batch, ver, order, begin, scr, margin) -> bool:
-    """True when no unverified candidate can beat the best guaranteed one of ``batch``."""
-    following = order[begin + BATCH:]
+def _settled(spec, chosen, following, scr, margin) -> bool:
+    """True when none of the unverified candidates ``following`` can beat ``chosen``."""
     if following.size == 0:
         return True
+    index, ver = chosen
+    t_best = float(np.max(ver.t_arrive[0]))
+    # A run may arrive up to one period before the closed-form time (the advance within a
+    # period is not uniform), so only candidates slower by more than that are out of the race.
+    faster = scr.t_estimate[following] - spec.period[1] <= t_best
     if spec.objective == "robustness":
-        return margin[following].max() < margin[batch[good]].max()
-    best = np.max(ver.t_arrive[good], axis=1).min()
-    # A run may arrive up to one period before D / vbar says (the advance within a period is not uniform).
-    return scr.t_estimate[following].min() - spec.period[1] > best
+        return not np.any((margin[following] > margin[index]) | ((margin[following] == margin[index]) & faster))
+    return not faster.any()
 
 
 def _row(ver: Verification, i: int) -> Verification:
