@@ -24,6 +24,7 @@ _EXPORTS = {
     "classify": "analysis.classification", "floquet": "analysis.floquet", "lyapunov_trace": "analysis.lyapunov",
     "SteadyState": "analysis.steady_state", "steady_state": "analysis.steady_state",
     "stick_map": "analysis.stick_map", "positioning": "analysis.positioning",
+    "design": "analysis.design", "DesignSpec": "model.design_spec", "load_design_spec": "io.design_spec",
 }
 
 __all__ = sorted(_EXPORTS) + ["__version__"]

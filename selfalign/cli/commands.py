@@ -19,9 +19,12 @@ from pathlib import Path
 import click
 
 from ..analysis.classification import CASE_LABELS, classify
+from ..analysis.design import design
 from ..analysis.floquet import floquet
 from ..analysis.positioning import MAX_PERIODS, positioning
 from ..analysis.steady_state import steady_state
+from ..io.design_result import design_content
+from ..io.design_spec import load_design_spec
 from ..io.hdf5 import write_h5
 from ..io.recording import write_recording
 from ..io.scene_files import load_scene
@@ -270,3 +273,50 @@ def positioning_command(dt, dy, y2, y3, si, w, c_mu, n_entries, offset, max_peri
     values = {"dt": profile.dt, "dy": profile.dy, "y2": profile.y2, "y3": profile.y3, "w": result.w,
               "c_mu": result.c_mu, "n_entries": n_entries, **{key: getattr(result, key) for key in scalars}}
     emit(values, scale, as_json)
+
+
+@selfalign.command("design", short_help="A guaranteed self-aligning design from a machine's limits (Sects. 2, 7).")
+@click.argument("spec_file", metavar="SPEC.yaml", type=click.Path(dir_okay=False, path_type=Path))
+@click.option("-o", "--output", type=click.Path(dir_okay=False, path_type=Path), callback=output_path,
+              help="Write the result as HDF5 (the layout of results/design/<spec>.h5, SI units).")
+@click.option("--json", "as_json", is_flag=True, help="Print the chosen design as JSON (SI units; null for NaN).")
+@debug_option
+@reported
+def design_command(spec_file: Path, output: Path | None, as_json: bool) -> int:
+    """Search the three-phase profiles (Sect. 4.4.3) inside the actuator's limits of a design spec
+    (SI units) for the least process time or the largest mu margin, and certify the choice: at
+    every mu sample every steady-state entry into the strip ends at rest (or accumulates, eq. 41
+    and Sect. 7.3), simulated with the batched exact solver.  Exit code 1 if no design meets
+    the spec; the report then says which constraint binds."""
+    result = design(load_design_spec(spec_file))
+    if as_json:
+        click.echo(json.dumps(design_summary(result), indent=2))
+    else:
+        click.echo(result.report())
+    if output is not None:
+        write_h5(output, *design_content(result))
+        click.echo(f"wrote {output}")
+    return 0 if result.found else 1
+
+
+def design_summary(result) -> dict:
+    """The chosen design's numbers in SI (JSON: null for NaN)."""
+    out = {"name": result.spec.name, "found": result.found, "explanation": result.explanation}
+    if result.verification is not None:
+        times = result.times
+        out.update({
+            "period_s": result.period, "frequency_hz": result.frequency, "stroke_m": result.stroke,
+            "y2_m_s2": result.y2, "y3_m_s2": result.y3, "c_mu": result.c_mu,
+            "t1_s": float(times.t1), "t2_s": float(times.t2), "t3_s": float(times.t3),
+            "case": result.case, "case_label": result.case_label, "vbar_m_s": result.vbar,
+            "vbar_min_m_s": result.vbar_min, "t_arrive_s": result.t_arrive, "t_rest_s": result.t_rest,
+            "x_d_m": result.x_d, "error_m": result.error, "margin": result.margin,
+            "guaranteed": bool(result.verification.guaranteed[0]),
+            "mu_samples": result.verification.mu.tolist(),
+            "x_stick_min_m": result.verification.x_stick_min[0].tolist(),
+            "dx_d_m": result.verification.dx_d[0].tolist(),
+            "frac_accumulate": result.verification.frac_accumulate[0].tolist(),
+        })
+    out["assumptions"] = list(result.assumptions)
+    return {key: finite_or_none(value) if isinstance(value, (float, list)) and key != "assumptions" else value
+            for key, value in out.items()}

@@ -43,6 +43,10 @@ LABELS = {
     "friction": "1 (dimensionless: in units of the maximum friction force mu m g)",
     "state": "L for x, L/T for x'" + _MODEL,
     "monodromy": "[[1, T], [1/T, 1]] for (x, x')" + _MODEL,
+    "si_length": "m (SI)",
+    "si_time": "s (SI)",
+    "si_velocity": "m/s (SI)",
+    "si_acceleration": "m/s^2 (SI)",
 }
 
 MODE_LEGEND = dict(MODE_NAMES)
@@ -235,6 +239,64 @@ QUANTITIES: dict[str, Quantity] = {
     "cobweb_accumulate": Quantity("length", "start and stick positions of a run started stuck just above x_c"),
     "cobweb_rest": Quantity("length", "start and stick positions of a run started stuck just below x_c"),
 }
+
+#: Axes and profile of a design (results/design/<spec>.h5), in SI.
+_DESIGN_PROFILE = {
+    "period": Quantity("si_time", "period of the table motion"),
+    "stroke": Quantity("si_length", "stroke of the table motion"),
+    "y2": Quantity("si_acceleration", "magnitude of the table deceleration y2'' of the second phase"),
+    "y3": Quantity("si_acceleration", "table acceleration y3'' of the third phase"),
+    "c_mu": Quantity("number", "friction ratio c_mu of the strip"),
+}
+_MAP_CODES = {"physical": "a physical profile (q <= 1, Sect. 5.1)",
+              "moves": "the part moves forward at every mu of the range (closed form)",
+              "holds": "the strip can hold the part at every mu (max(y2'', y3'') <= c_mu mu_min g, eq. 41)",
+              "screened": "every closed-form condition of the design search holds"}
+QUANTITIES.update({
+    **{f"profile/{k}": q for k, q in _DESIGN_PROFILE.items()},
+    **{f"front_time_*/{k}": q for k, q in _DESIGN_PROFILE.items()},
+    "profile/t1": Quantity("si_time", "end of the zero-acceleration phase (start of -y2'')"),
+    "profile/t2": Quantity("si_time", "end of the -y2'' phase (start of +y3'')"),
+    "profile/t3": Quantity("si_time", "end of the period"),
+    "profile/y_ini": Quantity("si_length", "table position at t = 0 (its minimum is 0)"),
+    "profile/yd_ini": Quantity("si_velocity", "table velocity at t = 0"),
+    "performance/vbar": Quantity("si_velocity", "steady average velocity vbar (eq. 10) at the nominal mu"),
+    "performance/vbar_min": Quantity("si_velocity", "slowest vbar over the mu range (closed form)"),
+    "performance/margin": Quantity("number", "robustness margin: relative mu deviation the closed forms allow"),
+    "performance/t_arrive": Quantity("si_time", "worst simulated time from the start until within the tolerance of "
+                                                "x_d"),
+    "performance/t_rest": Quantity("si_time", "worst simulated time from the start until rest or accumulation"),
+    "performance/x_d": Quantity("si_length", "end position x_d past the strip's edge (middle of the end band)"),
+    "performance/error": Quantity("si_length", "half the range of the end positions over all entries and mu"),
+    "verification/mu": Quantity("number", "the mu samples"),
+    "verification/case": Quantity("code", "case of Table 1 at each mu", CASE_LEGEND),
+    "verification/vbar": Quantity("si_velocity", "steady average velocity vbar at each mu"),
+    "verification/frac_*": Quantity("number", "fraction of the entries with that outcome at each mu"),
+    "verification/dx_d": Quantity("si_length", "Delta_x_d (eq. 39) at each mu"),
+    "verification/x_stick_min": Quantity("si_length", "x_stick_min (eq. 41) past the strip's edge at each mu"),
+    "verification/end_min": Quantity("si_length", "smallest end position past the strip's edge at each mu"),
+    "verification/end_max": Quantity("si_length", "largest end position past the strip's edge at each mu"),
+    "verification/sufficient": Quantity("code", "sufficient condition of Sect. 7.3 at each mu",
+                                        {1: "holds", 0: "fails", -1: "eq. 59 does not apply"}),
+    "verification/t_arrive": Quantity("si_time", "simulated time until within the tolerance of x_d at each mu"),
+    "verification/t_rest": Quantity("si_time", "simulated time until rest or accumulation at each mu"),
+    "front_time_*/t_estimate": Quantity("si_time", "closed-form process time (D + x_stick_min(mu_max) - tolerance) "
+                                                   "/ vbar_min"),
+    "front_time_error/spread": Quantity("si_length", "half the range of x_stick_min (eq. 41) over the mu range"),
+    "front_time_error/t_arrive": Quantity("si_time", "simulated worst time until within the tolerance of x_d (NaN: "
+                                                     "not simulated)"),
+    "front_time_error/error": Quantity("si_length", "simulated robust positioning error (NaN: not simulated)"),
+    "front_time_error/guaranteed": Quantity("boolean", "the engine certifies the design"),
+    "front_time_margin/margin": Quantity("number", "robustness margin: relative mu deviation the closed forms allow"),
+    "map/y2": Quantity("si_acceleration", "the axis y2''"),
+    "map/y3": Quantity("si_acceleration", "the axis y3''"),
+    "map/case": Quantity("code", "case of Table 1 at the nominal mu", CASE_LEGEND),
+    **{f"map/{k}": Quantity("boolean", text) for k, text in _MAP_CODES.items()},
+    "map/sufficient": Quantity("code", "sufficient condition of Sect. 7.3 at the nominal mu",
+                               {1: "holds", 0: "fails", -1: "eq. 59 does not apply"}),
+    "map/frac_accumulate": Quantity("number", "fraction of the entries that accumulate at the nominal mu"),
+    "map/frac_stop": Quantity("number", "fraction of the entries that come to rest at the nominal mu"),
+})
 
 
 def quantity(path: str) -> Quantity:

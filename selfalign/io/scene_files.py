@@ -34,7 +34,7 @@ def _key(path) -> str:
     return ".".join(str(p) for p in path) or "<top level>"
 
 
-def _non_finite(data, path=()):
+def first_non_finite(data, path=()):
     """First (path, value) holding a NaN or infinity, or None."""
     if isinstance(data, dict):
         items = data.items()
@@ -45,7 +45,7 @@ def _non_finite(data, path=()):
             return path, data
         return None
     for key, value in items:
-        found = _non_finite(value, path + (key,))
+        found = first_non_finite(value, path + (key,))
         if found:
             return found
     return None
@@ -77,7 +77,7 @@ def validate_scene_dict(data, source: str = "<scene>") -> None:
 
     if not isinstance(data, dict):
         raise SceneError(f"{source}: a scene must be a mapping of keys, got {type(data).__name__}")
-    bad = _non_finite(data)
+    bad = first_non_finite(data)
     if bad:
         raise SceneError(f"{source}: {_key(bad[0])}: must be a finite number, got {bad[1]!r}")
     validator = jsonschema.Draft202012Validator(scene_schema())
@@ -168,22 +168,28 @@ def scene_from_dict(data: dict, source: str = "<scene>", name: str | None = None
     return scene
 
 
-def load_scene(path) -> Scene:
-    """Read, validate and build the scene in a YAML file."""
+def read_yaml(path, error: type[ValueError], what: str):
+    """The YAML content of ``path``; ``error`` with one line naming the file if it cannot be
+    read or parsed (``what``: "scene file", "design spec", ...)."""
     import yaml
 
     path = Path(path)
     try:
         text = path.read_text()
     except OSError as exc:
-        raise SceneError(f"{path}: cannot read scene file ({exc.strerror})") from None
+        raise error(f"{path}: cannot read {what} ({exc.strerror})") from None
     try:
-        data = yaml.safe_load(text)
+        return yaml.safe_load(text)
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         where = f" at line {mark.line + 1}" if mark else ""
-        raise SceneError(f"{path}: not valid YAML{where}") from None
-    return scene_from_dict(data, source=str(path), name=path.stem)
+        raise error(f"{path}: not valid YAML{where}") from None
+
+
+def load_scene(path) -> Scene:
+    """Read, validate and build the scene in a YAML file."""
+    path = Path(path)
+    return scene_from_dict(read_yaml(path, SceneError, "scene file"), source=str(path), name=path.stem)
 
 
 def validate_config(config: dict, schema_path, source: str, overrides: dict | None = None) -> None:

@@ -18,6 +18,7 @@ from ..io.simulation_result import scene_from_result
 from ..plots.accumulation import figure_14, figure_15, figure_16, figure_17, figure_18
 from ..plots.annotate import overshoot_dimensions
 from ..plots.classification import figure_04, figure_05, figure_06, figure_08, figure_map
+from ..plots.design import figure_design
 from ..plots.profile import figure_07
 from ..plots.simulation import figure_03, figure_09, figure_12, figure_accuracy_cost
 from ..plots.stability import figure_13
@@ -61,8 +62,14 @@ FIGURES = {
 }
 
 
+#: Figures drawn once per item, by name prefix: ``design_<spec>`` from results/design/<spec>.h5.
+FAMILIES = {"design_": lambda results: figure_design(*results)}
+
+
 def draw(name: str, results: list[dict], **options):
     """The matplotlib Figure ``name`` drawn from ``results`` with ``options``."""
-    if name not in FIGURES:
-        raise ValueError(f"unknown figure {name!r}; known: {', '.join(FIGURES)}")
-    return FIGURES[name](results, **options)
+    family = [drawing for prefix, drawing in FAMILIES.items() if name.startswith(prefix)]
+    if name not in FIGURES and not family:
+        raise ValueError(f"unknown figure {name!r}; known: {', '.join(FIGURES)} and "
+                         f"{', '.join(p + '<name>' for p in FAMILIES)}")
+    return (FIGURES.get(name) or family[0])(results, **options)

@@ -11,6 +11,7 @@ STEADY_STATE_FIGURES = "Steady state and classification (Sects. 4-5)"
 STABILITY_FIGURES = "Stability and convergence (Sect. 6)"
 ACCUMULATION_FIGURES = "Stopping and accumulation (Sect. 7)"
 SOLVER_FIGURES = "Solvers: accuracy against cost"
+DESIGN_FIGURES = "Designing a self-aligning station"
 PORTRAITS = ACCUMULATION["portraits"]["settings"]
 
 #: name -> (report category, input result files, options of selfalign.stages.figures.draw)
@@ -36,7 +37,11 @@ FIGURES = {
     "fig17": (ACCUMULATION_FIGURES, [results("accumulation", "fig17"), results("accumulation", "fig18")], {}),
     "fig18": (ACCUMULATION_FIGURES, [results("accumulation", "fig18")], {}),
     "accuracy_cost": (SOLVER_FIGURES, [results("accuracy", n) for n in scenes("accuracy")], {}),
+    # One per design spec (selfalign.stages.figures.FAMILIES), all with the caption design.rst.
+    **{f"design_{name}": (DESIGN_FIGURES, [results("design", name)], {}) for name in DESIGNS},
 }
+#: Figures that share a caption: name -> caption file stem (default: the name).
+CAPTIONS = {f"design_{name}": "design" for name in DESIGNS}
 
 
 for name, (category, inputs, options) in FIGURES.items():
@@ -47,7 +52,8 @@ for name, (category, inputs, options) in FIGURES.items():
         input:
             inputs,
         output:
-            report(figure(name, FIGURE_FORMATS[0]), caption=f"../report/{name}.rst", category=category),
+            report(figure(name, FIGURE_FORMATS[0]), caption=f"../report/{CAPTIONS.get(name, name)}.rst",
+                   category=category),
             *(figure(name, fmt) for fmt in FIGURE_FORMATS[1:]),
         params:
             figure=name,

@@ -1,0 +1,45 @@
+"""The result file of a design (:func:`selfalign.analysis.design.design`): ``results/design/<spec>.h5``.
+
+Everything is in SI units (``units`` m, s, m/s, m/s^2; :mod:`selfalign.io.quantities`).
+Root attributes: ``spec`` (the spec as a mapping), ``found``, ``explanation``, ``report``
+(the text the command line prints), ``assumptions``, ``case``, ``case_label``, ``search``.
+Groups: ``profile`` and ``performance`` (scalars of the chosen design), ``verification``
+(per mu sample), ``front_time_error`` and ``front_time_margin`` (the trade-offs) and,
+when given, ``map`` (:func:`selfalign.analysis.design.design_map`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict
+
+import numpy as np
+
+#: Per-mu arrays of a Verification stored in group ``verification``.
+VERIFIED = ("mu", "case", "vbar", "frac_accumulate", "frac_stop", "frac_never_stop", "frac_undecided", "dx_d",
+            "x_stick_min", "end_min", "end_max", "sufficient", "t_arrive", "t_rest")
+#: Arrays of a design map stored in group ``map``.
+MAPPED = ("y2", "y3", "case", "physical", "moves", "holds", "screened", "sufficient", "frac_accumulate",
+          "frac_stop")
+
+
+def design_content(design, design_map=None) -> tuple[dict, dict, dict]:
+    """(datasets, attrs, groups) for :func:`selfalign.io.hdf5.write_h5`."""
+    attrs = {"spec": asdict(design.spec), "found": bool(design.found), "explanation": design.explanation,
+             "report": design.report(), "assumptions": list(design.assumptions), "case": int(design.case),
+             "case_label": design.case_label if design.case else "", "search": dict(design.search)}
+    groups = {"front_time_error": {"datasets": {k: np.asarray(v) for k, v in design.front_time_error.items()}},
+              "front_time_margin": {"datasets": {k: np.asarray(v) for k, v in design.front_time_margin.items()}}}
+    if design.verification is not None:
+        times = design.times
+        groups["profile"] = {"datasets": {
+            "period": design.period, "stroke": design.stroke, "y2": design.y2, "y3": design.y3, "c_mu": design.c_mu,
+            "t1": float(times.t1), "t2": float(times.t2), "t3": float(times.t3), "y_ini": float(times.y_ini),
+            "yd_ini": float(times.yd_ini)}}
+        groups["performance"] = {"datasets": {
+            "vbar": design.vbar, "vbar_min": design.vbar_min, "margin": design.margin, "t_arrive": design.t_arrive,
+            "t_rest": design.t_rest, "x_d": design.x_d, "error": design.error}}
+        groups["verification"] = {"datasets": {k: np.asarray(getattr(design.verification, k)[0] if k != "mu"
+                                                              else design.verification.mu) for k in VERIFIED}}
+    if design_map is not None:
+        groups["map"] = {"datasets": {k: np.asarray(getattr(design_map, k)) for k in MAPPED}}
+    return {}, attrs, groups

@@ -1,0 +1,72 @@
+"""Design spec files: YAML read, checked against ``schemas/design.schema.yaml``, turned into a
+:class:`~selfalign.model.design_spec.DesignSpec` (README "Designing a self-aligning station").
+
+Every problem is one line naming the file and the key, e.g.
+``workflow/designs/x.yaml: actuator.acceleration: must be > 0, got -3``.
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+from importlib import resources
+from pathlib import Path
+
+from ..model.design_spec import DesignGrid, DesignSpec, period_from_frequency
+from ..model.errors import SceneError
+from .scene_files import first_non_finite, read_yaml, schema_error_message
+
+
+class DesignSpecError(SceneError):
+    """A design spec file is invalid; the message names the file and the key."""
+
+
+@lru_cache(maxsize=1)
+def design_schema() -> dict:
+    """The JSON schema of a design spec file."""
+    import yaml
+
+    return yaml.safe_load(resources.files("selfalign.io").joinpath("schemas/design.schema.yaml").read_text())
+
+
+def _pair(value) -> tuple[float, float]:
+    """(min, max) of a number (min = max) or a {min, max} range."""
+    return (value["min"], value["max"]) if isinstance(value, dict) else (value, value)
+
+
+def design_spec_from_dict(data, source: str = "<design>", name: str | None = None) -> DesignSpec:
+    """Validate ``data`` (the YAML layout) and build the :class:`DesignSpec`."""
+    import jsonschema
+
+    if not isinstance(data, dict):
+        raise DesignSpecError(f"{source}: a design spec must be a mapping of keys, got {type(data).__name__}")
+    bad = first_non_finite(data)
+    if bad:
+        raise DesignSpecError(f"{source}: {'.'.join(map(str, bad[0]))}: must be a finite number, got {bad[1]!r}")
+    errors = list(jsonschema.Draft202012Validator(design_schema()).iter_errors(data))
+    if errors:
+        error = max(errors, key=lambda e: (len(e.absolute_path), e.validator == "additionalProperties"))
+        if error.validator == "oneOf" and list(error.absolute_path) == ["actuator"]:
+            raise DesignSpecError(f"{source}: actuator: give exactly one of frequency and period (each {{min, max}})")
+        raise DesignSpecError(f"{source}: {schema_error_message(error)}")
+    machine, actuator, task = data["machine"], data["actuator"], data["task"]
+    stroke_min, stroke_max = _pair(actuator["stroke"])
+    try:
+        period = (period_from_frequency(*_pair(actuator["frequency"])) if "frequency" in actuator
+                  else _pair(actuator["period"]))
+        return DesignSpec(
+            mu=machine["mu"], mu_uncertainty=machine.get("mu_uncertainty", 0.0), c_mu=_pair(machine["c_mu"]),
+            g=machine.get("g", 9.81), width=data["part"]["width"], max_stroke=stroke_max,
+            min_stroke=stroke_min if isinstance(actuator["stroke"], dict) else None,
+            max_acceleration=actuator["acceleration"], period=period, distance=task["distance"],
+            tolerance=task["tolerance"], accumulation=task.get("accumulation", False),
+            objective=task.get("objective", "process_time"), max_process_time=task.get("max_process_time"),
+            name=data.get("name", name or "design"), grid=DesignGrid(**data.get("search", {})),
+        )
+    except ValueError as exc:
+        raise DesignSpecError(f"{source}: {exc}") from None
+
+
+def load_design_spec(path) -> DesignSpec:
+    """Read, validate and build the design spec in a YAML file (its name defaults to the file stem)."""
+    path = Path(path)
+    return design_spec_from_dict(read_yaml(path, DesignSpecError, "design spec"), source=str(path), name=path.stem)

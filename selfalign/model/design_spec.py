@@ -1,0 +1,129 @@
+"""What a self-aligning station must do, in SI units: the input of :func:`selfalign.analysis.design.design`.
+
+A spec names the machine (friction coefficient mu of the base surface and its relative
+uncertainty, the friction ratio c_mu of the high-friction strip, gravity), the part (its
+width, the transition width w of eqs. 7-9), the actuator's limits (stroke, |acceleration|,
+period range) and the task (distance to the strip, positioning tolerance, objective).
+Every check raises before any work, with one line naming the key.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from .errors import check_finite, check_integer, check_positive
+
+OBJECTIVES = ("process_time", "robustness")
+
+
+@dataclass(frozen=True)
+class DesignGrid:
+    """Resolution of the search: ``periods`` (geometric over the period range), ``strokes``
+    (linear up to the maximum stroke), ``accelerations`` (linear up to the maximum |y''|, for
+    y2'' and y3'' each), ``c_mu`` (values over a c_mu range), ``entries`` (steady-state entries
+    simulated per mu sample, >= 256), ``mu_samples`` (odd, >= 3: both extremes and the middle)
+    and ``max_verified`` (most candidates the engine checks before giving up)."""
+
+    periods: int = 12
+    strokes: int = 12
+    accelerations: int = 40
+    c_mu: int = 4
+    entries: int = 256
+    mu_samples: int = 5
+    max_verified: int = 48
+
+    def __post_init__(self):
+        for name, low in (("periods", 1), ("strokes", 1), ("accelerations", 2), ("c_mu", 1), ("entries", 256),
+                          ("mu_samples", 3), ("max_verified", 1)):
+            check_integer(f"search.{name}", getattr(self, name), low, 10_000)
+        if self.mu_samples % 2 == 0:
+            raise ValueError(f"search.mu_samples must be odd (the middle of the mu range is a sample), "
+                             f"got {self.mu_samples}")
+
+
+@dataclass(frozen=True)
+class DesignSpec:
+    """A design problem in SI units (m, s, m/s^2); see the module docstring.
+
+    ``c_mu``: (low, high), equal for a fixed strip; ``period``: (low, high) in s;
+    ``min_stroke``: the smallest stroke the actuator can make (None: any stroke up to
+    ``max_stroke``; equal to it for a fixed-stroke drive such as a cam);
+    ``accumulation``: require Delta_x_d = 0 (every entry accumulates at x_stick_min);
+    ``objective``: "process_time" (least worst-case process time) or "robustness" (largest
+    mu margin with a worst-case process time <= ``max_process_time``).
+    """
+
+    mu: float
+    mu_uncertainty: float
+    c_mu: tuple[float, float]
+    width: float
+    max_stroke: float
+    max_acceleration: float
+    period: tuple[float, float]
+    distance: float
+    tolerance: float
+    g: float = 9.81
+    accumulation: bool = False
+    objective: str = "process_time"
+    max_process_time: float | None = None
+    name: str = "design"
+    min_stroke: float | None = None
+    grid: DesignGrid = field(default_factory=DesignGrid)
+
+    def __post_init__(self):
+        for key in ("mu", "width", "max_stroke", "max_acceleration", "distance", "tolerance", "g"):
+            check_positive(key, getattr(self, key))
+        if self.min_stroke is not None and not 0.0 < check_finite("min_stroke", self.min_stroke) <= self.max_stroke:
+            raise ValueError(f"min_stroke must lie in (0, max_stroke = {self.max_stroke!r}], got {self.min_stroke!r}")
+        delta = check_finite("mu_uncertainty", self.mu_uncertainty)
+        if not 0.0 <= delta < 1.0:
+            raise ValueError(f"mu_uncertainty must lie in [0, 1) (a relative uncertainty), got {delta!r}")
+        low, high = (check_finite("c_mu", c) for c in self.c_mu)
+        if not 1.0 < low <= high:
+            raise ValueError(f"c_mu must satisfy 1 < low <= high (a high-friction strip), got {self.c_mu!r}")
+        p_low, p_high = (check_positive("period", p) for p in self.period)
+        if p_low > p_high:
+            raise ValueError(f"period must satisfy low <= high, got {self.period!r}")
+        if self.objective not in OBJECTIVES:
+            raise ValueError(f"objective must be one of {', '.join(OBJECTIVES)}, got {self.objective!r}")
+        if self.objective == "robustness" and self.max_process_time is None:
+            raise ValueError("objective 'robustness' needs task.max_process_time (the process time to keep)")
+        if self.max_process_time is not None:
+            check_positive("max_process_time", self.max_process_time)
+        if not isinstance(self.grid, DesignGrid):
+            raise ValueError(f"grid must be a DesignGrid, got {type(self.grid).__name__}")
+
+    @property
+    def mu_range(self) -> tuple[float, float]:
+        """[mu (1 - delta), mu (1 + delta)]."""
+        return self.mu * (1.0 - self.mu_uncertainty), self.mu * (1.0 + self.mu_uncertainty)
+
+    @property
+    def c_mu_fixed(self) -> bool:
+        return self.c_mu[0] == self.c_mu[1]
+
+    def frequency_range(self) -> tuple[float, float]:
+        """[1 / period_high, 1 / period_low] in Hz."""
+        return 1.0 / self.period[1], 1.0 / self.period[0]
+
+    def describe(self) -> str:
+        """One line of the spec's numbers, for reports."""
+        lo, hi = self.mu_range
+        c = f"{self.c_mu[0]:g}" if self.c_mu_fixed else f"{self.c_mu[0]:g}..{self.c_mu[1]:g}"
+        f_lo, f_hi = self.frequency_range()
+        stroke = (f"<= {1e3 * self.max_stroke:g}" if self.min_stroke is None
+                  else f"{1e3 * self.min_stroke:g}..{1e3 * self.max_stroke:g}")
+        return (f"mu = {self.mu:g} +- {100 * self.mu_uncertainty:g} % ({lo:.4g}..{hi:.4g}), c_mu = {c}, "
+                f"w = {1e3 * self.width:g} mm, stroke {stroke} mm, |y''| <= "
+                f"{self.max_acceleration:g} m/s^2, f = {f_lo:.4g}..{f_hi:.4g} Hz, distance {1e3 * self.distance:g} mm, "
+                f"tolerance {1e6 * self.tolerance:g} um{', accumulation' if self.accumulation else ''}")
+
+
+def period_from_frequency(low_hz: float, high_hz: float) -> tuple[float, float]:
+    """The period range (s) of a frequency range (Hz)."""
+    for value in (low_hz, high_hz):
+        check_positive("actuator.frequency", value)
+    if low_hz > high_hz:
+        raise ValueError(f"actuator.frequency must satisfy min <= max, got {low_hz!r} > {high_hz!r}")
+    return 1.0 / high_hz, 1.0 / low_hz
+

@@ -1,0 +1,58 @@
+"""Result files of the workflow stage "design" (README "Designing a self-aligning station"):
+each spec of ``workflow/designs/`` designed (:func:`selfalign.analysis.design.design`) with its
+design map into ``results/design/<spec>.h5``, and the chosen design's stop at the nominal mu
+as a rerun recording.
+"""
+
+from __future__ import annotations
+
+import math
+
+from ..analysis.design import design, design_map
+from ..io.design_result import design_content
+from ..io.design_spec import load_design_spec
+from ..io.recording import Recording
+from ..io.simulation_result import simulation_recording, trajectory_content
+from ..model.friction import StopZone
+from ..model.profiles import ThreePhaseProfile
+from ..model.scene import Record, Scene
+from ..model.units import SIScale
+from ..solvers.driver import simulate
+
+#: Samples per period of the recorded stop.
+SAMPLES_PER_PERIOD = 100
+
+
+def design_results(spec_path, *, map_refine: int, map_entries: int, progress: str = "auto"):
+    """((datasets, attrs, groups) of results/design/<spec>.h5, the Design) of the spec file."""
+    result = design(load_design_spec(spec_path), progress=progress)
+    chart = design_map(result, refine=map_refine, entries=map_entries, progress=progress) \
+        if result.verification is not None else None
+    return design_content(result, chart), result
+
+
+def stop_scene(result: dict) -> Scene:
+    """The chosen design's process run at the nominal mu as a scene (read_h5 layout of a design
+    result): the part at rest the spec's distance before the strip at t = 0, until rest; in model
+    units with the SI scale L = the part's width."""
+    spec = result["attrs"]["spec"]
+    profile = result["groups"]["profile"]["datasets"]
+    scale = SIScale(mu=spec["mu"], g=spec["g"], L=spec["width"])
+    accel = scale.unit("acceleration")
+    dimensionless = ThreePhaseProfile(float(profile["period"]) / scale.T, float(profile["stroke"]) / scale.L,
+                                      float(profile["y2"]) / accel, float(profile["y3"]) / accel)
+    t_rest = float(result["groups"]["performance"]["datasets"]["t_rest"])
+    periods = 2 * math.ceil(t_rest / float(profile["period"])) + 1000
+    return Scene(dimensionless, StopZone(x_mu=0.0, w=1.0, c_mu=float(profile["c_mu"])),
+                 x0=-spec["distance"] / scale.L, v0=0.0, phase=0.0, until="rest", max_periods=periods,
+                 record=Record(series=("x", "v", "ydd", "friction", "mode"), samples_per_period=SAMPLES_PER_PERIOD,
+                               events=True, rerun=True),
+                 name=f"design_{spec['name']}", si=scale,
+                 description=f"the stop of design {spec['name']} at the nominal mu")
+
+
+def stop_recording(result: dict) -> Recording:
+    """The rerun recording of the chosen design's stop (:func:`stop_scene`)."""
+    scene = stop_scene(result)
+    datasets, attrs, groups = trajectory_content(simulate(scene), scene)
+    return simulation_recording({"datasets": datasets, "attrs": attrs, "groups": groups})
