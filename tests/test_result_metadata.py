@@ -153,6 +153,7 @@ def test_every_result_of_a_small_pipeline_run_is_self_describing(repo, workdir):
     targets += [f"results/stability/grid_{g}.h5" for g in s["stability"]["grids"]]
     targets += [f"results/classification/{n}.h5" for n in ("fig04", "fig06", "verify_maps")]
     targets += [f"results/accumulation/{n}.h5" for n in ("fig16", "fig17", "fig18")]
+    targets += [f"results/design/{s['design']['designs'][-1]}.h5"]
     rc, out = snakemake(workdir, "-c2", *targets)
     assert rc == 0, out
     ran = set(re.findall(r"^(?:local)?rule (\w+):", out, flags=re.M))
