@@ -220,3 +220,42 @@ def test_event_times_are_located_to_the_stated_accuracy():
         return -(t - ts) - (v + a * s + j * s**2 / 2 - yds)
     root = mpmath.findroot(rel_velocity, mpmath.mpf(float(sticks["tau"][0])))
     assert sticks.size == 1 and abs(sticks["tau"][0] - float(root)) <= 1e-14
+
+
+def test_simulated_case_and_vbar_reproduce_table1_at_zero_ramp():
+    """analysis.finite_jerk.steady_case read off a simulated steady period: at ramp 0 it gives the case
+    of Table 1 (sa.classify, closed form) and the closed-form vbar (to 1e-9 relative) on a 6 x 6 grid of
+    the Fig. 11 plane (cases 0, 1, 2, 3, 5) and on the case 4 setting of Fig. 9; at ramp 1e-9 dt the grid
+    is the same to 1e-7."""
+    from selfalign.analysis.finite_jerk import steady_case, steady_grid
+
+    axis = np.linspace(0.1, 3.0, 6)
+    grid = steady_grid(1.38, 0.064, axis, axis, [0.0, 1e-9], progress="quiet")
+    for i, y2 in enumerate(axis):
+        for j, y3 in enumerate(axis):
+            case = sa.classify((1.38, 0.064, y2, y3))
+            assert grid.case[0, i, j] == case
+            if case == 0:
+                assert np.isnan(grid.vbar[0, i, j])
+                continue
+            profile = sa.ThreePhaseProfile(1.38, 0.064, y2, y3)
+            assert abs(grid.vbar[0, i, j] - sa.steady_state(profile).vbar) <= 1e-9 * max(grid.vbar[0, i, j], 1e-3)
+    assert set(np.unique(grid.case[0]).tolist()) >= {1, 2, 3, 5}
+    slip_slip = sa.ThreePhaseProfile(1.0, 0.084, 1.4, 1.3)           # case 4 of Fig. 9
+    assert steady_case(slip_slip)[1] == sa.classify(slip_slip) == 4
+    assert np.array_equal(grid.case[1], grid.case[0])
+    assert np.allclose(grid.vbar[1], grid.vbar[0], rtol=0, atol=1e-7, equal_nan=True)
+
+
+@pytest.mark.parametrize("y2, y3", [(2.3, 1.3), (1.8, 1.1)])
+def test_moreau_stopping_matches_exact_positioning_at_zero_ramp(y2, y3):
+    """analysis.finite_jerk.stopping (Moreau, dt/10^4) against sa.positioning (exact) on the paper's
+    profile: the same fraction of entries accumulates and Delta x_d agrees to 1e-4 absolute (one
+    accumulating setting of Fig. 17, one that stops at rest)."""
+    from selfalign.analysis.finite_jerk import stopping
+
+    profile = sa.ThreePhaseProfile(1.0, 0.084, y2, y3)
+    exact = sa.positioning(profile, w=0.05, c_mu=2.5, n_entries=16)
+    moreau = stopping(profile, w=0.05, c_mu=2.5, n_entries=16)
+    assert moreau.frac_accumulate == exact.frac_accumulate
+    assert abs(moreau.dx_d - exact.dx_d) <= 1e-4
