@@ -259,3 +259,18 @@ def test_moreau_stopping_matches_exact_positioning_at_zero_ramp(y2, y3):
     moreau = stopping(profile, w=0.05, c_mu=2.5, n_entries=16)
     assert moreau.frac_accumulate == exact.frac_accumulate
     assert abs(moreau.dx_d - exact.dx_d) <= 1e-4
+
+
+def test_ramps_create_accumulation_where_the_paper_has_none_and_ivp_agrees():
+    """The finding of README "Finite jerk" at one cell of the Fig. 17 plane (y2'' = 1.8, y3'' = 1.5):
+    with the paper's profile no entry accumulates (exact positioning), with ramps of 5 % of dt 3 of 16
+    do, and solve_ivp, run entry by entry, gives the same outcomes as Moreau."""
+    from selfalign.analysis.finite_jerk import jerk_profile, stopping
+
+    assert sa.positioning(sa.ThreePhaseProfile(1.0, 0.084, 1.8, 1.5), w=0.05, c_mu=2.5,
+                          n_entries=16).frac_accumulate == 0.0
+    ramped = jerk_profile(1.0, 0.084, 1.8, 1.5, 0.05)
+    moreau = stopping(ramped, w=0.05, c_mu=2.5)
+    ivp = stopping(ramped, w=0.05, c_mu=2.5, method="ivp")
+    assert moreau.frac_accumulate == ivp.frac_accumulate == 3 / 16
+    assert moreau.frac_rest == ivp.frac_rest

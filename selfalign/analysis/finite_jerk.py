@@ -112,17 +112,23 @@ class Stopping:
 
 
 def stopping(profile, *, w: float, c_mu: float, n_entries: int = 16, steps_per_period: int = 10_000,
-             max_periods: int = 1000, offset: float = 0.5) -> Stopping:
-    """Steady-state entries into a stop zone (module docstring), Moreau with ``steps_per_period``.
+             max_periods: int = 1000, offset: float = 0.5, method: str = "moreau") -> Stopping:
+    """Steady-state entries into a stop zone (module docstring), Moreau with ``steps_per_period``
+    (batched), or ``method="ivp"`` (solve_ivp at its default tolerances, one run per entry: slow,
+    the cross-check).
 
     The steady state (exact solver, uniform surface) gives vbar and the period-boundary velocity
     v0; the zone starts at x_mu = the largest advance within a steady period, and entry j
     starts at x = -vbar dt (j + offset) / n_entries, x' = v0, phase 0.  ValueError if the
     steady state does not move forward.
     """
+    if not isinstance(profile, (ThreePhaseProfile, FiniteJerkProfile)):
+        raise ValueError(f"profile must be a ThreePhaseProfile or FiniteJerkProfile, got {profile!r}")
     check_positive("w", w)
     check_positive("c_mu", c_mu)
     n_entries = check_integer("n_entries", n_entries)
+    if method not in ("moreau", "ivp"):
+        raise ValueError(f"method must be 'moreau' or 'ivp', got {method!r}")
     state = exact_steady_state(profile, aperiodic="average")
     vbar, v0 = float(state.vbar[0]), float(state.v0[0])
     if not vbar > 0.0:
@@ -130,12 +136,18 @@ def stopping(profile, *, w: float, c_mu: float, n_entries: int = 16, steps_per_p
     period = simulate(Scene(profile, v0=v0, periods=1, record=Record(series=("x",), samples_per_period=2000)))
     x_mu = float(np.max(period.series["x"]))        # the largest x is at a v = 0 event, which is sampled
     x0 = -vbar * profile.dt * (np.arange(n_entries) + offset) / n_entries
-    res = simulate_batch(profile, x0, v0, surface=StopZone(x_mu, w, c_mu), until="rest", max_periods=max_periods,
-                         method="moreau", steps_per_period=steps_per_period)
-    status = np.array([list(Status)[code] for code in res.status])
+    zone = StopZone(x_mu, w, c_mu)
+    if method == "moreau":
+        res = simulate_batch(profile, x0, v0, surface=zone, until="rest", max_periods=max_periods,
+                             method="moreau", steps_per_period=steps_per_period)
+        status, x_end = np.array([list(Status)[code] for code in res.status]), res.x_end
+    else:
+        runs = [simulate(Scene(profile, surface=zone, x0=float(x), v0=v0, until="rest", max_periods=max_periods),
+                         method="ivp") for x in x0]
+        status, x_end = np.array([run.status for run in runs]), np.array([run.x_end for run in runs])
     accumulate, rest = status == Status.ACCUMULATION, status == Status.REST
     stops = accumulate | rest
-    ends = res.x_end[stops]
+    ends = x_end[stops]
     return Stopping(float(np.mean(accumulate)), float(np.mean(rest)), float(np.mean(~stops)),
                     float((ends.max() - ends.min()) / 2.0) if ends.size else float("nan"))
 
