@@ -15,7 +15,7 @@ from pathlib import Path
 
 from ..model.errors import NonPhysicalProfile, SceneError
 from ..model.friction import FrictionLaw, StopZone, Uniform
-from ..model.profiles import FourierProfile, PolynomialProfile, ThreePhaseProfile
+from ..model.profiles import FiniteJerkProfile, FourierProfile, PolynomialProfile, ThreePhaseProfile
 from ..model.scene import Record, Scene
 from ..model.units import SIScale
 from ..solvers.methods import check_scene
@@ -65,6 +65,8 @@ def schema_error_message(error) -> str:
         return f"{key}: expected {error.validator_value}, got {type(error.instance).__name__} {error.instance!r}"
     if kind == "enum":
         return f"{key}: {error.instance!r} is not allowed; allowed: {', '.join(map(str, error.validator_value))}"
+    if kind == "not" and "required" in error.validator_value:
+        return f"{key}: keys {', '.join(error.validator_value['required'])} exclude each other; give at most one"
     if kind in ("minimum", "exclusiveMinimum", "maximum", "exclusiveMaximum"):
         op = {"minimum": ">=", "exclusiveMinimum": ">", "maximum": "<=", "exclusiveMaximum": "<"}[kind]
         return f"{key}: must be {op} {error.validator_value}, got {error.instance!r}"
@@ -105,7 +107,11 @@ def scene_from_dict(data: dict, source: str = "<scene>", name: str | None = None
     p = data["profile"]
     try:
         dt = value(p, "dt", "time")
-        if p["kind"] == "three_phase":
+        if p["kind"] == "three_phase" and (p.get("ramp") or p.get("jerk")):
+            profile = FiniteJerkProfile(dt, value(p, "dy", "length"), value(p, "y2", "acceleration"),
+                                        value(p, "y3", "acceleration"), ramp=value(p, "ramp", "time"),
+                                        jerk=value(p, "jerk", "jerk"))
+        elif p["kind"] == "three_phase":         # ramp absent or 0: the paper's profile (Sect. 4.4.3)
             profile = ThreePhaseProfile(dt, value(p, "dy", "length"), value(p, "y2", "acceleration"),
                                         value(p, "y3", "acceleration"))
         elif p["kind"] == "polynomial":

@@ -247,6 +247,208 @@ class ThreePhaseProfile(PiecewiseConstantProfile):
         return f"ThreePhaseProfile(dt={self.dt!r}, dy={self.dy!r}, y2={self.y2!r}, y3={self.y3!r})"
 
 
+class PiecewiseLinearProfile(Profile):
+    """A periodic y(t) made of third-order polynomial pieces: y'' linear in each piece.
+
+    Piece ``i`` spans ``[breaks[i], breaks[i+1])`` with y'' = ``accels[i]`` + ``jerks[i]`` s,
+    s the time since the piece start; ``y_start``, ``yd_start`` are y and y' at t = 0.
+    Zero-length pieces are dropped.  y and y' are continuous (integrated piece by piece);
+    y'' may jump at a break.  It is not piecewise constant: the exact solver runs it on its
+    smooth stepper (README "Finite jerk").
+    """
+
+    def __init__(self, breaks, accels, jerks, y_start: float, yd_start: float):
+        y_start = check_finite("y_start", y_start)
+        yd_start = check_finite("yd_start", yd_start)
+        breaks, accels, jerks = (np.asarray(a, dtype=float) for a in (breaks, accels, jerks))
+        if breaks.ndim != 1 or breaks.size < 2 or accels.shape != (breaks.size - 1,) or jerks.shape != accels.shape:
+            raise ValueError("breaks must be 1-D with at least two entries and one entry more than accels and jerks")
+        if not np.all(np.isfinite(breaks)) or breaks[0] != 0.0 or np.any(np.diff(breaks) < 0) or breaks[-1] <= 0.0:
+            raise ValueError(f"breaks must be finite, start at 0, never decrease and end at dt > 0, "
+                             f"got {breaks.tolist()}")
+        if not (np.all(np.isfinite(accels)) and np.all(np.isfinite(jerks))):
+            raise ValueError(f"accels and jerks must be finite, got {accels.tolist()} and {jerks.tolist()}")
+        keep = np.diff(breaks) > 0
+        self.breaks = np.concatenate([breaks[:1], breaks[1:][keep]])
+        self.accels, self.jerks = accels[keep], jerks[keep]
+        self.dt = float(self.breaks[-1])
+        lengths = np.diff(self.breaks)
+        impulse = self.accels * lengths + 0.5 * self.jerks * lengths**2
+        allowed = 64.0 * np.finfo(float).eps * float(np.sum(np.abs(impulse)))
+        if not abs(float(np.sum(impulse))) <= allowed:
+            raise ValueError(f"y'' must average to zero over the period (else the table velocity drifts by "
+                             f"{float(np.sum(impulse)):.6g} per period); got breaks {self.breaks.tolist()}, "
+                             f"accels {self.accels.tolist()} and jerks {self.jerks.tolist()}")
+        vel = yd_start + np.concatenate([[0.0], np.cumsum(impulse)])
+        shift = vel[:-1] * lengths + self.accels * lengths**2 / 2.0 + self.jerks * lengths**3 / 6.0
+        self.piece_velocity = vel
+        self.piece_position = y_start + np.concatenate([[0.0], np.cumsum(shift)])
+
+    @property
+    def switch_times(self) -> np.ndarray:
+        """Times within [0, dt) at which a new polynomial piece starts."""
+        return self.breaks[1:-1].copy()
+
+    @property
+    def max_abs_acceleration(self) -> float:
+        ends = self.accels + self.jerks * np.diff(self.breaks)
+        return float(max(np.max(np.abs(self.accels)), np.max(np.abs(ends))))
+
+    @property
+    def velocity_swing(self) -> float:
+        """max y' - min y' over the breaks and the interior zeros of y''."""
+        lengths = np.diff(self.breaks)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            s = np.where(self.jerks != 0.0, -self.accels / self.jerks, -1.0)
+        inside = (s > 0.0) & (s < lengths)
+        interior = (self.piece_velocity[:-1][inside] + self.accels[inside] * s[inside]
+                    + 0.5 * self.jerks[inside] * s[inside] ** 2)
+        return float(np.ptp(np.concatenate([self.piece_velocity, interior])))
+
+    def _evaluate(self, t):
+        tau = self.phase(t)
+        i = np.clip(np.searchsorted(self.breaks, tau, side="right") - 1, 0, self.accels.size - 1)
+        return tau - self.breaks[i], i
+
+    def position(self, t):
+        s, i = self._evaluate(t)
+        return (self.piece_position[i] + self.piece_velocity[i] * s + self.accels[i] * s**2 / 2.0
+                + self.jerks[i] * s**3 / 6.0)
+
+    def velocity(self, t):
+        s, i = self._evaluate(t)
+        return self.piece_velocity[i] + self.accels[i] * s + 0.5 * self.jerks[i] * s**2
+
+    def acceleration(self, t):
+        s, i = self._evaluate(t)
+        return self.accels[i] + self.jerks[i] * s
+
+    def params(self) -> dict:
+        return {"kind": "piecewise_linear", "dt": self.dt, "breaks": self.breaks.tolist(),
+                "accels": self.accels.tolist(), "jerks": self.jerks.tolist()}
+
+
+@dataclass(frozen=True)
+class FiniteJerkTimes:
+    """Closed-form solution of the Appendix constraints with linear ramps (vectorised).
+
+    ``t1``, ``t2``, ``t3`` are the ramp centres (the paper's switch times as the ramps
+    vanish); ``yd_ini`` is y' on the zero-acceleration plateau, ``y_start`` and
+    ``yd_start`` are y and y' at t = 0 (the centre of the third ramp).
+    """
+
+    t1: np.ndarray
+    t2: np.ndarray
+    t3: np.ndarray
+    yd_ini: np.ndarray
+    y_start: np.ndarray
+    yd_start: np.ndarray
+    t_top: np.ndarray
+    t_bottom: np.ndarray
+    q: np.ndarray          # the feasibility measure; a physical profile needs 0 < q <= 1
+    valid: np.ndarray      # q in (0, 1], every ramp inside its phase and y' = 0 on the plateaus
+
+
+def finite_jerk_times(dt, dy, y2, y3, ramp_a, ramp_b, ramp_c) -> FiniteJerkTimes:
+    """Switch times of the three-phase profile whose y'' ramps linearly over ``ramp_a`` (0 to -y2),
+    ``ramp_b`` (-y2 to +y3) and ``ramp_c`` (+y3 to 0), each ramp centred on its switch time.
+
+    Derivation (README "The three-phase profile"): a ramp of length T and jump J centred on
+    a switch has the step's velocity change, so y' equals the paper's y' outside the ramps;
+    inside it differs by J (s + T/2)^2 / (2 T) before the centre and J (s - T/2)^2 / (2 T)
+    after it, which shifts y by J T^2 / 24 per ramp.  With u = y2 (t2 - t1) = y3 (t3 - t2)
+    and k = 1/y2 + 1/y3 as in :func:`three_phase_times`, E = (-y2 ramp_a^2 + (y2 + y3) ramp_b^2
+    - y3 ramp_c^2) / 24 and D = (y2 + y3) ramp_b^2 / 24:
+
+        zero-mean y' (periodic y):     yd_ini dt - u^2 k / 2 + E = 0,
+        stroke (y' = 0 on plateaus):   (u - yd_ini)^2 k / 2 - D = dy.
+
+    So u - yd_ini = G = sqrt(2 (dy + D) / k) and u solves k u^2 / (2 dt) - u + G - E / dt = 0:
+    with q = 2 k (G - E / dt) / dt and r = sqrt(1 - q), u = dt (1 - r) / k and t1 = dt r.
+    All ramps zero gives E = D = 0 and q = sqrt(8 dy k) / dt, the paper's profile.
+    """
+    dt, dy, y2, y3, ta, tb, tc = np.broadcast_arrays(
+        *(np.asarray(a, dtype=float) for a in (dt, dy, y2, y3, ramp_a, ramp_b, ramp_c)))
+    k = 1.0 / y2 + 1.0 / y3
+    shift = (-y2 * ta**2 + (y2 + y3) * tb**2 - y3 * tc**2) / 24.0
+    dip = (y2 + y3) * tb**2 / 24.0
+    depth = np.sqrt(2.0 * (dy + dip) / k)
+    q = 2.0 * k * (depth - shift / dt) / dt
+    feasible = (q <= 1.0) & (q > 0.0)
+    with np.errstate(invalid="ignore"):
+        r = np.sqrt(np.where(feasible, 1.0 - q, np.nan))
+    swing = dt * (q / (1.0 + r)) / k
+    t1 = dt * r
+    t2 = t1 + swing / y2
+    yd_ini = (swing**2 * k / 2.0 - shift) / dt
+    t_top, t_bottom = t1 + yd_ini / y2, dt - yd_ini / y3
+    with np.errstate(invalid="ignore"):
+        valid = (feasible & (t1 - (ta + tc) / 2.0 >= 0.0) & (t_top - t1 >= ta / 2.0) & (t2 - t_top >= tb / 2.0)
+                 & (t_bottom - t2 >= tb / 2.0) & (dt - t_bottom >= tc / 2.0))
+    return FiniteJerkTimes(t1=t1, t2=t2, t3=dt + 0.0 * t1, yd_ini=yd_ini,
+                           y_start=yd_ini**2 / (2.0 * y3) - y3 * tc**2 / 48.0, yd_start=yd_ini - y3 * tc / 8.0,
+                           t_top=t_top, t_bottom=t_bottom, q=q, valid=valid)
+
+
+def ramp_times(y2: float, y3: float, ramp: float | None = None, jerk: float | None = None) -> tuple:
+    """(ramp_a, ramp_b, ramp_c) of the three switches: all ``ramp``, or |jump| / ``jerk``."""
+    if (ramp is None) == (jerk is None):
+        raise ValueError(f"give exactly one of ramp (a ramp time > 0) and jerk (the largest |d y''/dt| > 0), "
+                         f"got ramp = {ramp!r}, jerk = {jerk!r}")
+    if ramp is not None:
+        ramp = check_positive("ramp", ramp)
+        return ramp, ramp, ramp
+    jerk = check_positive("jerk", jerk)
+    return y2 / jerk, (y2 + y3) / jerk, y3 / jerk
+
+
+class FiniteJerkProfile(PiecewiseLinearProfile):
+    """The three-phase profile (Sect. 4.4.3) with finite jerk: y'' moves linearly between the
+    levels 0, -y2, +y3 over a ramp of time ``ramp`` at each switch (or |jump| / ``jerk``),
+    the ramps centred on the switch times of :func:`finite_jerk_times`, which keep the
+    Appendix's constraints (zero-mean y'' and y', the stroke dy, min y = 0).  t = 0 is the
+    centre of the ramp from +y3 to 0; as the ramps vanish this is the paper's profile.
+    """
+
+    kind = "three_phase"
+
+    def __init__(self, dt: float, dy: float, y2: float, y3: float, ramp: float | None = None,
+                 jerk: float | None = None):
+        for name, value in (("dt", dt), ("dy", dy), ("y2", y2), ("y3", y3)):
+            check_positive(name, value)
+        ta, tb, tc = ramp_times(y2, y3, ramp, jerk)
+        sol = finite_jerk_times(dt, dy, y2, y3, ta, tb, tc)
+        if not 0.0 < float(sol.q) <= 1.0:
+            raise NonPhysicalProfile(f"no physical finite-jerk three-phase profile: dt = {dt!r}, dy = {dy!r}, "
+                                     f"y2 = {y2!r}, y3 = {y3!r} with ramps {ta!r}, {tb!r}, {tc!r} need 0 < q <= 1, "
+                                     f"got q = {float(sol.q):.6g} (the stroke cannot be reached in one period)")
+        if not bool(sol.valid):
+            raise ValueError(f"ramps ({ta!r}, {tb!r}, {tc!r}) are too long for the three-phase profile dt = {dt!r}, "
+                             f"dy = {dy!r}, y2 = {y2!r}, y3 = {y3!r}: every ramp must end before the next starts "
+                             f"and the table velocity must reach 0 on the -y2 and +y3 plateaus")
+        self.dy, self.y2, self.y3 = float(dy), float(y2), float(y3)
+        self.ramp, self.jerk = ramp, jerk
+        self.ramps = (float(ta), float(tb), float(tc))
+        self.t1, self.t2, self.t3 = float(sol.t1), float(sol.t2), float(dt)
+        self.yd_ini, self.t_top, self.t_bottom = float(sol.yd_ini), float(sol.t_top), float(sol.t_bottom)
+        ha, hb, hc = ta / 2.0, tb / 2.0, tc / 2.0
+        t1, t2 = self.t1, self.t2
+        breaks = [0.0, hc, t1 - ha, t1 + ha, t2 - hb, t2 + hb, dt - hc, dt]
+        accels = [y3 / 2.0, 0.0, 0.0, -y2, -y2, y3, y3]
+        jerks = [-y3 / tc, 0.0, -y2 / ta, 0.0, (y2 + y3) / tb, 0.0, -y3 / tc]
+        super().__init__(breaks, accels, jerks, float(sol.y_start), float(sol.yd_start))
+        self.dt = float(dt)
+
+    def params(self) -> dict:
+        given = {"ramp": float(self.ramp)} if self.ramp is not None else {"jerk": float(self.jerk)}
+        return {"kind": self.kind, "dt": self.dt, "dy": self.dy, "y2": self.y2, "y3": self.y3, **given,
+                "t1": self.t1, "t2": self.t2, "t3": self.t3, "yd_ini": self.yd_ini}
+
+    def __repr__(self):
+        given = f"ramp={self.ramp!r}" if self.ramp is not None else f"jerk={self.jerk!r}"
+        return f"FiniteJerkProfile(dt={self.dt!r}, dy={self.dy!r}, y2={self.y2!r}, y3={self.y3!r}, {given})"
+
+
 class PolynomialProfile(PiecewiseConstantProfile):
     """The second-order polynomial profile of Sect. 4.2 (Fig. 3).
 

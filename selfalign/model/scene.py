@@ -130,7 +130,8 @@ class Scene:
     def to_dict(self) -> dict:
         """The scene as a plain dict in the YAML layout (dimensionless units)."""
         profile = {k: v for k, v in self.profile.params().items()
-                   if k in ("kind", "dt", "dy", "y2", "y3", "forward_fraction", "cos_coeffs", "sin_coeffs")}
+                   if k in ("kind", "dt", "dy", "y2", "y3", "ramp", "jerk", "forward_fraction", "cos_coeffs",
+                            "sin_coeffs")}
         out = {"name": self.name, "profile": profile}
         if self.description:
             out["description"] = self.description

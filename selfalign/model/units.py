@@ -32,7 +32,7 @@ class SIScale:
 
     #: dimension exponents (length, time) of each kind of quantity
     DIMENSIONS = {"length": (1, 0), "time": (0, 1), "velocity": (1, -1),
-                  "acceleration": (1, -2), "dimensionless": (0, 0)}
+                  "acceleration": (1, -2), "jerk": (1, -3), "dimensionless": (0, 0)}
 
     def unit(self, kind: str) -> float:
         """The SI value of one dimensionless unit of ``kind``."""

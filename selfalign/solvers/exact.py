@@ -15,18 +15,21 @@ with atan2; the exponential form for hyperbolic arcs), ZONE (the mass crosses x_
 x_mu + w).  Crossing times come from quadratics in the cancellation-free "citardauq"
 form; the earliest candidate within the current piece is taken.
 
-Smooth (Fourier) profiles, uniform friction only: during a slip in direction s,
+Smooth profiles (Fourier, and the piecewise-linear y'' of a finite-jerk profile), uniform
+friction only: during a slip in direction s,
 x' = v0 - s (t - t0) - (y'(t) - y'(t0)) and x follows in closed form.  The events
 (v = 0, and |y''| crossing 1 while stuck) are bracketed on a fixed grid of
-64 (order + 1) points per period (sign changes closer than the grid spacing are not
-resolved) and refined with Brent's method to ~1 ulp of the period.
+64 (order + 1) points per period (Fourier) or the breaks and 16 points per piece
+(piecewise-linear y'', where x' is a quadratic in t within a piece); sign changes closer
+than the grid spacing are not resolved.  They are refined with Brent's method to
+|error| <= 2 eps dt + 4 eps t (eps = 2.2e-16).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from ..model.profiles import FourierProfile
+from ..model.profiles import FourierProfile, PiecewiseLinearProfile
 from . import records as R
 
 
@@ -39,6 +42,10 @@ def profile_row(profile) -> tuple[int, np.ndarray]:
                                         + profile.sin_coeffs.tolist() + profile.omega.tolist())
     amax = profile.max_abs_acceleration
     head = R.profile_header(profile.dt, amax, profile.velocity_swing, amax)
+    if isinstance(profile, PiecewiseLinearProfile):
+        return R.EXACT_SMOOTH, np.array(head + [-profile.accels.size] + profile.breaks.tolist()
+                                        + profile.accels.tolist() + profile.jerks.tolist()
+                                        + profile.piece_velocity[:-1].tolist() + profile.piece_position[:-1].tolist())
     return R.EXACT_PIECEWISE, np.array(head + [profile.accels.size] + profile.breaks.tolist()
                                        + profile.accels.tolist())
 

@@ -7,16 +7,18 @@ piece at a time in the current mode:
   under Stribeck friction mu_bar(x) times mu(v) / mu_k (:func:`selfalign.model.friction.stribeck_factor`);
 * stick (v = 0): x'' = 0, while |y''| <= r mu_bar(x) (r = mu_s / mu_k, 1 for Coulomb friction).
 
-A piece ends at a profile switch time (piecewise-constant profiles), at a period boundary
+A piece ends at a profile break (piecewise-constant y'', and the piecewise-linear y'' of a
+finite-jerk profile), at a period boundary
 (the start phase), or at a terminal event located by solve_ivp:
 
 * v = 0, direction-aware (only crossings against the slip direction count);
 * x = x_mu and x = x_mu + w, where mu_bar has a kink (StopZone), direction-aware so the
   boundary just crossed is not found again at the start of the next piece;
-* in stick on a smooth (Fourier) profile, |y''| crossing mu_bar upwards (two events
-  y'' -/+ mu_bar), integrated on the trivial ODE with max_step = dt / (16 * order) so
-  that no crossing of the trigonometric polynomial is stepped over.  On piecewise-constant
-  profiles stick is left at the first piece with |y''| > r mu_bar, without integration.
+* in stick on a smooth (Fourier, piecewise-linear) profile, |y''| crossing the stick limit
+  r mu_bar upwards (two events y'' -/+ r mu_bar), integrated on the trivial ODE with
+  max_step = dt / (16 * order) (a piecewise-linear y'' crosses at most once per piece) so
+  that no crossing is stepped over.  On piecewise-constant profiles stick is left at the
+  first piece with |y''| > r mu_bar, without integration.
 
 At v = 0 the mode is decided like the model (:func:`selfalign.model.friction.decide_mode`).
 Velocities are set to exactly 0 at v = 0 events and positions exactly onto a zone
@@ -65,6 +67,8 @@ class _Run:
         self.law = scene.friction
         self.rtol, self.atol, self.integrator = options["rtol"], options["atol"], options["integrator"]
         self.piecewise = profile.piecewise_constant
+        # The integration stops at every break (y'' jumps or bends there); a Fourier profile has none.
+        self.breaks = getattr(profile, "breaks", None)
         if self.piecewise:
             self.switches = set(profile.breaks[1:].tolist())      # the period end is a switch too
         else:
@@ -125,8 +129,9 @@ class _Run:
     def segment_end(self):
         """End of the smooth piece holding tau: next switch, the period boundary tau0, or dt."""
         end = self.dt
-        if self.piecewise:
-            end = float(self.profile.breaks[self.profile.piece_index(self.tau) + 1])
+        if self.breaks is not None:
+            piece = min(int(np.searchsorted(self.breaks, self.tau, side="right")) - 1, self.breaks.size - 2)
+            end = float(self.breaks[piece + 1])
         if self.tau < self.tau0 < end:
             end = self.tau0
         return end

@@ -12,9 +12,9 @@ advances one member by one period:
 
 * :func:`_period_piecewise`: the exact event-driven solver on a piecewise-constant
   profile, closed-form arcs and event times of :mod:`selfalign.model.arcs`;
-* :func:`_period_smooth`: the exact solver on a Fourier profile (uniform surface):
-  closed form in the profile, event times bracketed on a grid and refined by Brent's
-  method (:func:`_brent`) to ~1 ulp;
+* :func:`_period_smooth`: the exact solver on a Fourier or a piecewise-linear-y''
+  (finite-jerk) profile, uniform surface: closed form in the profile, event times
+  bracketed on a grid and refined by Brent's method (:func:`_brent`) to ~1 ulp;
 * :func:`_period_moreau`: Moreau time-stepping with the table impulse of each step
   integrated exactly (:mod:`selfalign.solvers.moreau`).
 
@@ -120,6 +120,10 @@ DONE, STOP_REST, STOP_ACCUMULATION, STOP_FIRST_STICK, STOP_BUDGET, STOP_STALL = 
 
 #: Evaluations of Brent's method at most per event time (it needs ~10 to 1 ulp).
 BRENT_MAX_ITER = 200
+#: Grid intervals of the smooth stepper per piece of a piecewise-linear-y'' profile: within a
+#: piece the slip velocity is a quadratic in time, so only a double root inside one of these
+#: intervals (a graze) goes unseen.
+GRID_PER_PIECE = 16
 
 _SWITCH, _STICK, _SLIP, _REVERSAL, _ZONE = (int(EventKind.SWITCH), int(EventKind.STICK), int(EventKind.SLIP),
                                             int(EventKind.REVERSAL), int(EventKind.ZONE))
@@ -484,7 +488,7 @@ def _period_piecewise(s, row, until, max_events, bnd, cross, record, arcs, event
 
 
 # ----------------------------------------------------------------------------------------
-# Exact stepper, Fourier profiles (uniform surface)
+# Exact stepper, smooth profiles: Fourier, or y'' piecewise linear (uniform surface)
 # ----------------------------------------------------------------------------------------
 
 @jit
@@ -504,12 +508,37 @@ def _fourier(row, t):
 
 
 @jit
+def _piecewise_linear(row, t):
+    """(y, y', y'') of the piecewise-linear-y'' profile in ``row`` at time t in [0, 2 dt)."""
+    dt = row[R.DT]
+    m = -int(row[R.DATA])
+    b0 = R.DATA + 1
+    tau = t - dt if t >= dt else t
+    i = 0
+    while i + 1 < m and row[b0 + i + 1] <= tau:
+        i += 1
+    s = tau - row[b0 + i]
+    a, j = row[b0 + m + 1 + i], row[b0 + 2 * m + 1 + i]
+    yd, y = row[b0 + 3 * m + 1 + i], row[b0 + 4 * m + 1 + i]
+    return y + s * (yd + s * (a / 2.0 + s * j / 6.0)), yd + s * (a + s * j / 2.0), a + j * s
+
+
+@jit
+def _table_motion(row, t):
+    """(y, y', y'') of the smooth stepper's profile ``row`` (a Fourier row has K > 0 in its
+    first data column, a piecewise-linear one -m)."""
+    if row[R.DATA] > 0.0:
+        return _fourier(row, t)
+    return _piecewise_linear(row, t)
+
+
+@jit
 def _event_function(kind, row, t0, s, sign, v, s0, yd0, limit):
     """Event functions of the smooth stepper: kind 0, |y''| crossing the stick limit
     ``limit`` = r mu_bar = r upwards while stuck (sign sgn(y'')); kind 1, the relative
     velocity of a slip in direction ``sign`` from (s0, v): x' = v - sign (s - s0) -
     (y'(t0 + s) - y'(t0 + s0)), signed."""
-    y, yd, ydd = _fourier(row, t0 + s)
+    y, yd, ydd = _table_motion(row, t0 + s)
     if kind == 0:
         return sign * ydd - limit
     return sign * (v - sign * (s - s0) - (yd - yd0))
@@ -565,8 +594,11 @@ def _brent(kind, row, t0, sign, v, s0, yd0, limit, xa, xb, xtol, rtol):
 
 @jit
 def _grid_intervals(row):
-    """Intervals of the smooth stepper's grid on one period of the Fourier profile ``row``."""
-    return 64 * (int(row[R.DATA]) + 1)
+    """Intervals of the smooth stepper's grid on one period: 64 (order + 1) on a Fourier
+    profile, :data:`GRID_PER_PIECE` per piece on a piecewise-linear one."""
+    if row[R.DATA] > 0.0:
+        return 64 * (int(row[R.DATA]) + 1)
+    return GRID_PER_PIECE * -int(row[R.DATA])
 
 
 @jit
@@ -576,27 +608,47 @@ def _grid_scratch(method, table):
     points = 0
     if method == R.EXACT_SMOOTH:
         for p in range(table.shape[0]):
-            points = max(points, _grid_intervals(table[p]) + 1)
+            points = max(points, _grid_intervals(table[p]) + 2)
     return np.empty((3, points))
 
 
 @jit
 def _smooth_grid(row, tau0, scratch):
-    """(grid offsets from tau0, y', y'') on 64 (order + 1) + 1 points of one period, views of ``scratch``."""
+    """(grid offsets from tau0, y', y'') on one period, views of ``scratch``: 64 (order + 1) + 1
+    uniform points on a Fourier profile; on a piecewise-linear one the breaks and
+    :data:`GRID_PER_PIECE` uniform points per piece, from tau0 round to tau0 + dt."""
     g = _grid_intervals(row)
     dt = row[R.DT]
-    grid = scratch[0, :g + 1]
-    yd = scratch[1, :g + 1]
-    ydd = scratch[2, :g + 1]
-    for i in range(g + 1):
-        grid[i] = dt * i / g
-        _, yd[i], ydd[i] = _fourier(row, tau0 + grid[i])
+    if row[R.DATA] > 0.0:
+        points = g + 1
+        for i in range(points):
+            scratch[0, i] = dt * i / g
+    else:
+        m = -int(row[R.DATA])
+        b0 = R.DATA + 1
+        scratch[0, 0] = 0.0
+        points = 1
+        for after in (True, False):           # the pieces' points after tau0, then (next period) before it
+            for i in range(m):
+                for k in range(GRID_PER_PIECE):
+                    p = row[b0 + i] + (row[b0 + i + 1] - row[b0 + i]) * k / GRID_PER_PIECE
+                    offset = p - tau0 if after else dt - (tau0 - p)
+                    if (p > tau0 if after else p < tau0) and scratch[0, points - 1] < offset < dt:
+                        scratch[0, points] = offset
+                        points += 1
+        scratch[0, points] = dt
+        points += 1
+    grid = scratch[0, :points]
+    yd = scratch[1, :points]
+    ydd = scratch[2, :points]
+    for i in range(points):
+        _, yd[i], ydd[i] = _table_motion(row, tau0 + grid[i])
     return grid, yd, ydd
 
 
 @jit
 def _period_smooth(s, row, until, max_events, bnd, cross, record, arcs, events, grid, g_yd, g_ydd):
-    """Advance member ``s`` one period on a Fourier profile (uniform surface)."""
+    """Advance member ``s`` one period on a smooth (Fourier or piecewise-linear-y'') profile, uniform surface."""
     dt = row[R.DT]
     tau0 = s.tau0
     xtol = 2.0 * _EPS * dt
@@ -632,13 +684,13 @@ def _period_smooth(s, row, until, max_events, bnd, cross, record, arcs, events, 
             new = -int(sgn)
             if record:
                 _record_arc(arcs, s, dt, _STICK_ARC, n, tau0 + s0, root - s0, xi, 0.0, 0.0, _NAN, 0.0, 0, LOW)
-                ydd_r = _fourier(row, tau0 + root)[2]
+                ydd_r = _table_motion(row, tau0 + root)[2]
                 _record_event(events, s, dt, _SLIP, n, tau0 + root, xi, 0.0, 0, new, 0.0, -ydd_r + sgn)
             s.events += 1
             mode, v, s0 = new, 0.0, root
         else:
             sigma = float(mode)
-            y0, yd0, ydd0 = _fourier(row, tau0 + s0)
+            y0, yd0, ydd0 = _table_motion(row, tau0 + s0)
             # First grid point where the velocity has the slip's sign (a slip from rest
             # first has to leave v = 0), then the first where it has lost it again.
             k = k0
@@ -655,7 +707,7 @@ def _period_smooth(s, row, until, max_events, bnd, cross, record, arcs, events, 
                 root = _brent(1, row, tau0, sigma, v, s0, yd0, limit, left, grid[k], xtol, rtol)
                 found = True
             d = root - s0
-            y1, yd1, ydd1 = _fourier(row, tau0 + root)
+            y1, yd1, ydd1 = _table_motion(row, tau0 + root)
             dx = v * d - 0.5 * sigma * d * d - (y1 - y0 - yd0 * d)
             if record:
                 _record_arc(arcs, s, dt, _SMOOTH, n, tau0 + s0, d, xi, v, -ydd0 - sigma, _NAN, 0.0, mode, LOW)
@@ -1252,8 +1304,8 @@ def sample_arcs(arcs, row, tau0, spp):
                     pn, pt = _norm(base, tau0 + j * h, dt)
                 if arc.kind == _SMOOTH:
                     sig = float(arc.mode)
-                    y0, yd0, _ = _fourier(row, arc.tau)
-                    y1, yd1, _ = _fourier(row, arc.tau + sr)
+                    y0, yd0, _ = _table_motion(row, arc.tau)
+                    y1, yd1, _ = _table_motion(row, arc.tau + sr)
                     dx = arc.v * sr - 0.5 * sig * sr * sr - (y1 - y0 - yd0 * sr)
                     vv = arc.v - sig * sr - (yd1 - yd0)
                 else:

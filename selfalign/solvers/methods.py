@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 from typing import Callable
 
 from ..model.friction import StopZone
-from ..model.profiles import FourierProfile
+from ..model.profiles import FourierProfile, PiecewiseLinearProfile
 
 #: Most Moreau steps per period: the table impulses of one period are kept in memory
 #: (8 bytes each), and more steps than this would take hours per period anyway.
@@ -84,11 +84,14 @@ def friction_refused(method: str, friction, options: dict) -> str | None:
 
 
 def _exact_refuses(scene):
-    if isinstance(scene.profile, FourierProfile) and isinstance(scene.surface, StopZone):
-        return ("method 'exact' cannot simulate a Fourier profile on a stop zone (no closed-form arcs with "
-                "position-dependent friction and smooth y''); use method 'moreau' or 'ivp'")
-    if not (getattr(scene.profile, "piecewise_constant", False) or isinstance(scene.profile, FourierProfile)):
-        return f"method 'exact' needs a piecewise-constant or Fourier profile, got {type(scene.profile).__name__}"
+    smooth = (FourierProfile, PiecewiseLinearProfile)
+    if isinstance(scene.profile, smooth) and isinstance(scene.surface, StopZone):
+        name = "Fourier" if isinstance(scene.profile, FourierProfile) else "finite-jerk"
+        return (f"method 'exact' cannot simulate a {name} profile on a stop zone (its smooth stepper has no arcs "
+                f"with position-dependent friction and non-constant y''); use method 'moreau' or 'ivp'")
+    if not (getattr(scene.profile, "piecewise_constant", False) or isinstance(scene.profile, smooth)):
+        return (f"method 'exact' needs a piecewise-constant, piecewise-linear-y'' or Fourier profile, got "
+                f"{type(scene.profile).__name__}")
     return None
 
 
