@@ -823,6 +823,22 @@ def _step_region(s, x):
 
 
 @jit
+def _richer_friction_step(s, v, v_free, h_mu, fixed_point, fp_tol, fp_max_iter):
+    """The implicit friction step of a Moreau step under static/kinetic or Stribeck friction
+    (mu_s / mu_k = r > 1 or v_s > 0): stick while the free velocity ``v_free`` stays in the window
+    r h mu_bar of a mass that is stuck or comes to rest; else slip against h mu_bar, times f(v) of
+    :func:`~selfalign.model.friction.stribeck_factor` for Stribeck friction."""
+    r_static = s.static_ratio
+    if r_static > 1.0 and v_free * v <= 0.0 and abs(v_free) <= h_mu * r_static:
+        return 0.0                      # static friction holds a mass that is stuck or comes to rest
+    if s.v_s > 0.0:
+        if abs(v_free) <= h_mu * r_static:
+            return 0.0
+        return math.copysign(_stribeck_speed(abs(v_free), h_mu, r_static, s.v_s, s.delta), v_free)
+    return _impulse(s, v_free, h_mu, fixed_point, fp_tol, fp_max_iter)
+
+
+@jit
 def _period_moreau(s, row, until, bnd, cross, record, samples, sample_steps, fixed_point, fp_tol, fp_max_iter):
     """Advance member ``s`` one period with N Moreau steps (:mod:`selfalign.solvers.moreau`)."""
     dt = row[R.DT]
@@ -834,8 +850,9 @@ def _period_moreau(s, row, until, bnd, cross, record, samples, sample_steps, fix
     tau0 = s.tau0
     xi, v, n = s.xi, s.v, s.n
     r_static = s.static_ratio      # stick window r h mu_bar; slip against h mu_bar (Stribeck: h mu_bar f(v))
-    static = r_static > 1.0
-    stribeck = s.v_s > 0.0
+    # The paper's law takes the step of :func:`_impulse` alone; the richer laws are a separate
+    # call so that they add nothing to the loop of the Coulomb step.
+    coulomb = r_static == 1.0 and not s.v_s > 0.0
     dxp = 0.0
     lo = 0.0
     hi = 0.0
@@ -867,13 +884,10 @@ def _period_moreau(s, row, until, bnd, cross, record, samples, sample_steps, fix
         mu = _mu(s, x_mid)
         regions |= 1 << _step_region(s, x_mid)
         v_free = v - row[d0 + k]
-        if static and v_free * v <= 0.0 and abs(v_free) <= h * mu * r_static:
-            v_new = 0.0                 # static friction holds a mass that is stuck or comes to rest
-        elif stribeck:
-            v_new = 0.0 if abs(v_free) <= h * mu * r_static else math.copysign(
-                _stribeck_speed(abs(v_free), h * mu, r_static, s.v_s, s.delta), v_free)
-        else:
+        if coulomb:
             v_new = _impulse(s, v_free, h * mu, fixed_point, fp_tol, fp_max_iter)
+        else:
+            v_new = _richer_friction_step(s, v, v_free, h * mu, fixed_point, fp_tol, fp_max_iter)
         x_new = x_mid + half * v_new
         s.steps += 1
         dx = x_new - xi
