@@ -238,6 +238,17 @@ QUANTITIES: dict[str, Quantity] = {
     "valid": Quantity("boolean", "where the assumptions of eq. (59) hold"),
     "cobweb_accumulate": Quantity("length", "start and stick positions of a run started stuck just above x_c"),
     "cobweb_rest": Quantity("length", "start and stick positions of a run started stuck just below x_c"),
+    # static/kinetic friction, results/effects/static_friction.h5 (selfalign.stages.effects)
+    "maps/ratio": Quantity("number", "r = mu_s / mu_k of each map (1: the paper's Coulomb friction)"),
+    "maps/frac_accumulate": Quantity("number", "[r, y2, y3]: fraction of the entries that accumulate"),
+    "maps/frac_never_stop": Quantity("number", "[r, y2, y3]: fraction of the entries that never stop"),
+    "maps/frac_undecided": Quantity("number", "[r, y2, y3]: fraction of the entries that stay undecided"),
+    "maps/dx_d": Quantity("length", "[r, y2, y3]: dx_d (eq. 39) over the entries that stop; NaN where none stops"),
+    "sweep/ratio": Quantity("number", "r = mu_s / mu_k of each sweep column (the first: 1, Coulomb)"),
+    "sweep/y2": Quantity("acceleration", "y2'' of each sweep setting"),
+    "sweep/y3": Quantity("acceleration", "y3'' of each sweep setting"),
+    "sweep/dx_d": Quantity("length", "[setting, r]: dx_d (eq. 39) over the entries that stop"),
+    "sweep/frac_accumulate": Quantity("number", "[setting, r]: fraction of the entries that accumulate"),
 }
 
 #: Axes and profile of a design (results/design/<spec>.h5), in SI.

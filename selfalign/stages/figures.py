@@ -19,6 +19,7 @@ from ..plots.accumulation import figure_14, figure_15, figure_16, figure_17, fig
 from ..plots.annotate import overshoot_dimensions
 from ..plots.classification import figure_04, figure_05, figure_06, figure_08, figure_map
 from ..plots.design import figure_design
+from ..plots.effects import figure_static_friction
 from ..plots.profile import figure_07
 from ..plots.simulation import figure_03, figure_09, figure_12, figure_accuracy_cost
 from ..plots.stability import figure_13
@@ -59,6 +60,7 @@ FIGURES = {
     "fig17": lambda results: figure_17(*results),  # fig17.h5, fig18.h5 (its setting is marked)
     "fig18": lambda results: figure_18(*results),
     "accuracy_cost": figure_accuracy_cost,
+    "static_friction": lambda results: figure_static_friction(*results),
 }
 
 
