@@ -10,7 +10,7 @@ import math
 import numpy as np
 import pytest
 
-from selfalign import load_scene
+from selfalign import load_scene, simulate
 from selfalign.analysis.accuracy import StudySettings, fit_loglog, loglog_interpolate, study
 from selfalign.analysis.steady_state import steady_state
 from selfalign.io.hdf5 import read_h5, write_h5
@@ -136,6 +136,35 @@ def test_settings_from_config_reject_unknown_keys():
         StudySettings.from_config(cfg)
     ok = StudySettings.from_config({"moreau_steps_per_period": {"from": 10, "to": 1000, "count": 3}})
     np.testing.assert_array_equal(ok.steps_per_period(), [10, 100, 1000])
+
+
+@pytest.mark.parametrize("name", ["accuracy_static", "accuracy_stribeck"])
+def test_moreau_order_under_static_and_stribeck_friction(repo, name):
+    """Under static/kinetic and Stribeck friction (mu_s = 1.3 mu_k, the mass enters a stop zone and
+    rests) Moreau stays about first order: the fitted order over h = dt/100 .. dt/1e5 lies in
+    [0.7, 1.2] (the stick decisions at r mu_bar scatter single errors by up to a factor ~10)."""
+    _, attrs, groups = study(load_scene(repo / f"workflow/scenes/{name}.yaml"), SMALL)
+    assert 0.7 <= attrs["moreau_order"] <= 1.2, attrs["moreau_order"]
+    err = groups["moreau"]["datasets"]["err_end_position"]
+    assert err[-1] < err[0] / 100
+
+
+def test_a_scene_exact_refuses_takes_its_reference_from_its_solver_block(repo):
+    """The exact solver refuses Stribeck friction, so the study's reference is the scene's own solver
+    block (ivp at rtol 1e-13): the reference run is that simulation, and the attribute says so."""
+    scene = load_scene(repo / "workflow/scenes/accuracy_stribeck.yaml")
+    _, attrs, groups = study(scene, SMALL)
+    assert attrs["reference"] == "ivp rtol=1e-13 atol=1e-15"
+    assert attrs["x_ref_end"] == simulate(scene).x_end == groups["exact"]["attrs"]["x_end"]
+
+
+def test_a_scene_without_a_reference_is_rejected_before_any_work(repo):
+    """A Stribeck scene whose solver block names the exact solver leaves the study no reference: one
+    error naming the scene, the refusal and what to do."""
+    scene = load_scene(repo / "workflow/scenes/accuracy_stribeck.yaml").replace(method="exact", solver_options={})
+    with pytest.raises(ValueError, match="'accuracy_stribeck': the accuracy study has no reference, method 'exact' "
+                                         "cannot simulate Stribeck.*name the reference in the scene's solver block"):
+        study(scene, SMALL)
 
 
 def test_until_rest_scene_is_rejected_before_any_work(repo):

@@ -296,6 +296,10 @@ def _study_title(scene: Scene) -> str:
     surface = scene.surface.params()
     where = ("uniform friction" if surface["kind"] == "uniform" else
              rf"stop zone at $x_\mu$ = {surface['x_mu']:g}, $c_\mu$ = {surface['c_mu']:g}")
+    law = scene.friction.params()
+    if law["kind"] != "coulomb":
+        where += rf", {law['kind'].replace('_', '/')} $\mu_s/\mu_k$ = {law['mu_s_over_mu_k']:g}"
+        where += rf", $v_s$ = {law['v_s']:g}" if "v_s" in law else ""
     return f"{where}, {scene.horizon_periods} periods from rest\n{_profile_text(scene)}"
 
 
@@ -307,7 +311,9 @@ def figure_accuracy_cost(results: list[dict]):
     for result in results:
         a, g = result["attrs"], result["groups"]
         studies.append({
-            "title": _study_title(scene_from_result(result)),
+            # The exact solver is the reference unless the scene names another (Stribeck).
+            "title": _study_title(scene_from_result(result))
+                     + ("" if a["reference"] == "exact" else f"\nreference: {a['reference']}"),
             "target_error": a["target_error"], "moreau_order": a["moreau_order"],
             "rounding_level_position": a["rounding_level_position"],
             "rounding_level_vbar": a["rounding_level_vbar"],
