@@ -3,15 +3,20 @@
 import numpy as np
 import pytest
 
-from selfalign import Status, StopZone, ThreePhaseProfile, simulate_batch
+from selfalign import Status, StopZone, ThreePhaseProfile, simulate, simulate_batch
 from selfalign.analysis.stick_map import (
     stick_map,
     stick_map_constants,
     stick_map_contraction,
     stick_map_simulated,
+    stick_map_slip_limit,
     stick_map_threshold,
     stick_map_validity,
+    stick_sequence,
 )
+from selfalign.model.friction import FrictionLaw
+from selfalign.model.scene import Record, Scene
+from selfalign.solvers.outcomes import EventKind
 
 #: Fig. 18: y2'' = 2.2, y3'' = 0.9, dt = 1.05, dy = 0.084; w = 0.05, c_mu = 2.5 (Sect. 7.2).
 FIG18 = ThreePhaseProfile(1.05, 0.084, 2.2, 0.9)
@@ -140,3 +145,37 @@ def test_threshold_separates_rest_from_accumulation():
     assert float(stick_map(x_c, FIG18, **ZONE)) == pytest.approx(xf, abs=1e-15)
     below, above = stick_map_simulated(np.array([x_c - 1e-6, x_c + 1e-6]), FIG18, **ZONE)
     assert below > xf > above
+
+
+@pytest.mark.parametrize("ratio", [1.3, 1.01])
+def test_static_friction_map_gives_the_exact_stick_sequences(ratio):
+    """Under static friction mu_s = r mu_k the map is eq. (59) below x_s = x_mu + w (y2/r - 1)/(c_mu - 1)
+    (a stuck mass slips only once y2'' > r mu_bar; the slip runs against mu_bar) and the identity
+    above: from starts stuck across [x_mu, x_s) on the Fig. 18 profile, its stick sequence is the
+    exact solver's stick for stick (1e-12), ends at or beyond x_s and is where the mass rests."""
+    profile, kw = FIG18, {"w": 0.05, "c_mu": 2.5, "x_mu": 0.0}
+    x_s = stick_map_slip_limit(profile, **kw, ratio=ratio)
+    assert x_s < stick_map_constants(profile, StopZone(**kw)).fixed_point
+    steps = []
+    for x0 in np.linspace(kw["x_mu"], x_s, 6)[:-1]:
+        seq = stick_sequence(x0, profile, **kw, ratio=ratio)
+        assert seq.valid and seq.rests and seq.x[-1] >= x_s
+        traj = simulate(Scene(profile, StopZone(**kw), x0=float(x0), periods=10, record=Record(events=True),
+                              friction=FrictionLaw("static_kinetic", ratio)), method="exact")
+        sticks = traj.events[traj.events["kind"] == EventKind.STICK]["x"]
+        np.testing.assert_allclose(sticks, seq.x[1:], rtol=0, atol=1e-12)
+        assert traj.x_end == pytest.approx(seq.x[-1], abs=1e-12)
+        steps.append(seq.x.size - 1)
+    assert max(steps) == 1 if ratio == 1.3 else max(steps) > 1  # r near 1: several sticks before rest
+
+
+def test_coulomb_map_sequence_never_rests():
+    """At r = 1, x_s is the fixed point x_f, and the sticks from above the threshold x_c approach it
+    without reaching it (the accumulation; by 0.154 per stick, so within 5 sticks it stays above
+    rounding): the sequence takes every allowed step and does not rest."""
+    kw = {"w": 0.05, "c_mu": 2.5, "x_mu": 0.0}
+    x_f = fixed_point(FIG18, kw)
+    assert stick_map_slip_limit(FIG18, **kw) == x_f
+    seq = stick_sequence(0.5 * (stick_map_threshold(FIG18, **kw) + x_f), FIG18, **kw, max_sticks=5)
+    assert seq.valid and not seq.rests and seq.x.size == 6
+    assert np.all(np.diff(seq.x[1:]) > 0) and seq.x[-1] < x_f

@@ -18,6 +18,15 @@ only when y2 >= y3 (eq. 41 uses max(y2, y3)); for y3 > y2 it lies below
 x_stick_min and is no end position (a mass stuck there slips backward in the
 y3 phase).
 
+Static friction mu_s = r mu_k (r > 1, issue 16): a mass stuck at x_n slips at t1 only if
+y2 > r mu_bar(x_n), i.e. x_n < x_s = x_mu + w (y2/r - 1)/(c_mu - 1)
+(:func:`stick_map_slip_limit`), and the slip runs against the kinetic mu_bar, so eq. (59)
+with the Coulomb constants (b1, b2, x_f) still gives x_{n+1} for x_n < x_s; from x_s on the
+mass stays where it is.  The map is thus eq. (59) below x_s and the identity above.  Its only
+fixed point in the zone, x_f, lies above x_s, and eq. (59) exceeds the identity below x_f:
+a stick below x_s moves on by at least x_{n+1}(x_n) - x_n >= min over [x_n, x_s] > 0, so the
+sticks pass x_s after finitely many steps and rest (:func:`stick_sequence`); no accumulation.
+
 What the map means, precisely: x_{n+1} is the position of the first stick
 event after t = 0 of a mass that is stuck at x_n at t = 0 (the start of the
 dwell).  :func:`stick_map_simulated` measures exactly that with a solver;
@@ -104,16 +113,54 @@ def stick_map_threshold(profile: ThreePhaseProfile, *, w: float, c_mu: float, x_
     return c.fixed_point - 2.0 * (profile.y2 + profile.y3) / c.b1 * np.cos(c.omega * c.slip_window)
 
 
+def stick_map_slip_limit(profile: ThreePhaseProfile, *, w: float, c_mu: float, x_mu: float,
+                         ratio: float = 1.0) -> float:
+    """x_s: a mass stuck at x_n >= x_s stays stuck under static friction mu_s = ``ratio`` mu_k
+    (y2 <= r mu_bar(x_n)); x_s = x_mu + w (y2/r - 1)/(c_mu - 1), the fixed point x_f at r = 1."""
+    if not ratio >= 1.0:
+        raise ValueError(f"ratio (mu_s/mu_k) must be >= 1, got {ratio!r}")
+    StopZone(x_mu=x_mu, w=w, c_mu=c_mu)  # validates the zone
+    return x_mu + w * (profile.y2 / ratio - 1.0) / (c_mu - 1.0)
+
+
+@dataclass(frozen=True)
+class StickSequence:
+    """Stick positions x_0, x_1, ... of the map (eq. 59 below x_s, the identity above).
+    ``rests``: the last one lies at or beyond x_s, where the mass stays for good;
+    ``valid``: eq. (59)'s assumptions held at every step taken."""
+
+    x: np.ndarray
+    rests: bool
+    valid: bool
+
+
+def stick_sequence(x0: float, profile: ThreePhaseProfile, *, w: float, c_mu: float, x_mu: float,
+                   ratio: float = 1.0, max_sticks: int = 1000) -> StickSequence:
+    """The stick positions from a mass stuck at ``x0`` at t = 0 under static friction
+    mu_s = ``ratio`` mu_k: eq. (59) while x_n < x_s (:func:`stick_map_slip_limit`), until a
+    stick lands at or beyond x_s (rest), eq. (59) leaves its assumptions
+    (:func:`stick_map_validity`) or ``max_sticks`` steps are taken (at r = 1 the sticks
+    accumulate at x_f and never reach it)."""
+    x_s = stick_map_slip_limit(profile, w=w, c_mu=c_mu, x_mu=x_mu, ratio=ratio)
+    kw = {"w": w, "c_mu": c_mu, "x_mu": x_mu}
+    x = [float(x0)]
+    while x[-1] < x_s and len(x) <= max_sticks:
+        if not stick_map_validity(x[-1], profile, **kw, ratio=ratio).valid:
+            return StickSequence(np.array(x), rests=False, valid=False)
+        x.append(float(stick_map(x[-1], profile, **kw)))
+    return StickSequence(np.array(x), rests=x[-1] >= x_s, valid=True)
+
+
 @dataclass(frozen=True)
 class StickMapValidity:
     """Which assumptions of eq. (59) hold at each x_n (boolean arrays shaped like x_n).
 
-    ``in_zone``: x_mu <= x_n <= x_mu + w.  ``slips_at_t1``: y2 > mu_bar(x_n),
-    i.e. x_n < x_f.  ``moving_at_t2``: the slip does not end before t2,
+    ``in_zone``: x_mu <= x_n <= x_mu + w.  ``slips_at_t1``: y2 > r mu_bar(x_n),
+    i.e. x_n < x_s (x_f at r = 1, :func:`stick_map_slip_limit`).  ``moving_at_t2``: the slip does not end before t2,
     omega (t2 - t1) < pi.  ``stays_in_zone``: x_{n+1} <= x_mu + w (x grows
     monotonically during the slip, so the whole slip is harmonic).
     ``stops_in_phase3``: v reaches 0 before the period ends, t2 + tau_stop <= dt.
-    ``sticks``: y3 <= mu_bar(x_{n+1}), so v = 0 is a stick, not a reversal.
+    ``sticks``: y3 <= r mu_bar(x_{n+1}), so v = 0 is a stick, not a reversal.
     ``valid``: all of them.  ``stop_time``: t2 + tau_stop (phase of the new stick).
     """
 
@@ -131,8 +178,10 @@ class StickMapValidity:
                 & self.stops_in_phase3 & self.sticks)
 
 
-def stick_map_validity(x_n, profile: ThreePhaseProfile, *, w: float, c_mu: float, x_mu: float) -> StickMapValidity:
-    """Check the assumptions of eq. (59) at ``x_n`` (see :class:`StickMapValidity`)."""
+def stick_map_validity(x_n, profile: ThreePhaseProfile, *, w: float, c_mu: float, x_mu: float,
+                       ratio: float = 1.0) -> StickMapValidity:
+    """Check the assumptions of eq. (59) at ``x_n`` (see :class:`StickMapValidity`) under static
+    friction mu_s = ``ratio`` mu_k (1: the paper's Coulomb friction)."""
     zone = StopZone(x_mu=x_mu, w=w, c_mu=c_mu)
     c = stick_map_constants(profile, zone)
     x_n = _positions(x_n)
@@ -143,11 +192,11 @@ def stick_map_validity(x_n, profile: ThreePhaseProfile, *, w: float, c_mu: float
     stop_time = profile.t2 + np.arctan2(d22, d12) / c.omega
     return StickMapValidity(
         in_zone=(x_n >= x_mu) & (x_n <= zone.x_end),
-        slips_at_t1=x_n < c.fixed_point,
+        slips_at_t1=x_n < stick_map_slip_limit(profile, w=w, c_mu=c_mu, x_mu=x_mu, ratio=ratio),
         moving_at_t2=np.full(x_n.shape, moving),
         stays_in_zone=x_next <= zone.x_end,
         stops_in_phase3=stop_time <= profile.dt,
-        sticks=profile.y3 <= zone.coefficient(x_next),
+        sticks=profile.y3 <= ratio * zone.coefficient(x_next),
         stop_time=stop_time,
     )
 
