@@ -5,6 +5,7 @@ arcs and a static stick limit) and the limits in which each effect is the paper'
 """
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -147,3 +148,18 @@ def test_stribeck_converges_to_static_kinetic():
     moreau = sa.simulate(_scene(FrictionLaw("stribeck", 1.3, 1e-3)), "moreau", h=1.05 / 20000)
     assert moreau.x_end == pytest.approx(sa.simulate(_scene(FrictionLaw("stribeck", 1.3, 1e-3)), "ivp",
                                                      **IVP_TIGHT).x_end, abs=1e-4)
+
+
+@pytest.mark.parametrize("method", ["exact", "moreau", "ivp"])
+def test_rest_message_reports_the_static_limit(method):
+    """A mass stuck at x = 0.03 in the zone (mu_bar = 1.9 < max|y''| = 2.2 <= 1.3 mu_bar) rests there
+    for good only because of static friction: the REST message names and prints r mu_bar = 2.47, the
+    coefficient that holds it, and so states an inequality that is true."""
+    zone = sa.StopZone(x_mu=0.0, w=0.05, c_mu=2.5)
+    traj = sa.simulate(_scene(FrictionLaw("static_kinetic", 1.3), zone, x0=0.03, until="rest", max_periods=10),
+                       method)
+    assert traj.status is sa.Status.REST and traj.x_end == 0.03
+    held = re.search(r"where mu_s = r mu_bar \(r = mu_s/mu_k = 1\.3\) = (\S+) >= max\|y''\| = (\S+)$", traj.message)
+    assert held, traj.message
+    assert float(held[1]) == pytest.approx(1.3 * float(zone.coefficient(0.03)), rel=1e-15)
+    assert float(held[1]) >= float(held[2]) == 2.2

@@ -237,7 +237,8 @@ def _trajectory(scene, method, options, code, row, record, origin, arcs, events,
     def compose():
         r = rec if rec is not None else dict(zip(_FIELDS, values))
         mu = coefficient(xi, surface.w, surface.c_mu) if zone else 1.0
-        text = outcome_message(r, origin, options, scene.until, scene.horizon_periods, mu, detail)
+        text = outcome_message(r, origin, options, scene.until, scene.horizon_periods, mu, detail,
+                               scene.friction.ratio)
         if method == "moreau" and reason is Reason.ACCUMULATION:
             text += (f"; the limit is that of the time-stepping scheme (x_stick_min for its rest acceleration "
                      f"max|impulse| / h = {r['rest_acc']!r})")

@@ -82,7 +82,7 @@ MESSAGES = {
                      "zone that is neither at rest nor periodic with a period <= {max_cycle}; it may still "
                      "come to rest later"),
     Reason.FIRST_STICK: "stopped at the first stick event (until='stick') at x = {x!r}",
-    Reason.REST: "at rest for good: stuck at x = {x!r} where mu_bar = {mu!r} >= max|y''| = {rest_acc!r}",
+    Reason.REST: "at rest for good: stuck at x = {x!r} where {holding} = {mu!r} >= max|y''| = {rest_acc!r}",
     Reason.ACCUMULATION: ("accumulation: stick positions in the transition zone converge to x_stick_min = "
                           "{limit!r} (eq. 41); the last one is {remaining!r} before it (<= accumulation_tol), "
                           "contraction {contraction!r}"),
@@ -113,6 +113,7 @@ def message(reason: Reason, **fields) -> str:
     zone = fields.get("zone", False)
     fields.setdefault("never_reaches", " (never reaches the stop zone)" if zone and region == LOW else "")
     fields.setdefault("away", " (the stop zone was never entered)" if zone else "")
+    fields.setdefault("holding", "mu_bar")
     return MESSAGES[reason].format(**fields)
 
 

@@ -191,15 +191,18 @@ class BatchResult:
 
 
 def outcome_message(rec, origin: float, options: dict, until: str, horizon: int, mu: float | None = None,
-                    detail: str = "") -> str:
+                    detail: str = "", ratio: float = 1.0) -> str:
     """The message of one member record (a record or a dict of its fields; shared by
-    :class:`Trajectory` and :class:`BatchResult`)."""
+    :class:`Trajectory` and :class:`BatchResult`).  ``mu``: mu_bar at the end position; under
+    static friction (``ratio`` r = mu_s/mu_k > 1) a rest is held by r mu_bar, which is reported."""
     reason = Reason(int(rec["reason"]))
     x = origin + float(rec["xi"])
     fields = {"x": x, "v": float(rec["v"]), "period": int(rec["n_end"]), "tau": float(rec["tau_end"]),
               "periods": int(rec["n_end"]), "fast_forward": int(rec["fast_forward"]),
               "max_periods": horizon, "max_cycle": MAX_CYCLE, "max_events": options.get("max_events"),
-              "stall": STALL_EVENTS, "rest_acc": float(rec["rest_acc"]), "mu": mu,
+              "stall": STALL_EVENTS, "rest_acc": float(rec["rest_acc"]),
+              "mu": mu if mu is None or ratio == 1.0 else ratio * mu,
+              "holding": "mu_bar" if ratio == 1.0 else f"mu_s = r mu_bar (r = mu_s/mu_k = {ratio!r})",
               "limit": origin + float(rec["xs"]), "remaining": float(rec["xs"] - rec["last_stick"]),
               "contraction": None if np.isnan(rec["contraction"]) else float(rec["contraction"]),
               "cycle": int(rec["cycle"]), "advance": float(rec["advance"]),
