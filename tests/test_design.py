@@ -16,12 +16,12 @@ import pytest
 import yaml
 
 import selfalign as sa
-from selfalign.analysis.design import Candidates, design, dimensionless, mu_values, search_grid
+from selfalign.analysis.design import Candidates, design, dimensionless, mu_values, search_grid, verify
 from selfalign.analysis.positioning import three_phase_table
 from selfalign.analysis.steady_state import steady_state_grid
-from selfalign.io.design_spec import design_spec_from_dict, load_design_spec
+from selfalign.io.design_spec import DesignSpecError, design_spec_from_dict, load_design_spec
 from selfalign.model.design_spec import DesignGrid, DesignSpec
-from selfalign.model.friction import StopZone
+from selfalign.model.friction import FrictionLaw, StopZone
 from selfalign.model.scene import Scene
 from selfalign.solvers.driver import simulate_batch
 from selfalign.solvers.outcomes import STATUS_CODES, Status
@@ -269,3 +269,32 @@ def test_robustness_objective_trades_time_for_margin():
                     progress="quiet")
     assert robust.found and robust.margin >= fastest.margin and robust.t_arrive <= limit
     assert robust.margin > fastest.margin or robust.t_arrive == fastest.t_arrive
+
+
+def test_static_friction_takes_the_accumulation_guarantee_away():
+    """Hypothesis (README "Static and kinetic friction": no accumulation for any mu_s/mu_k > 1): the
+    design guaranteed to accumulate under Coulomb friction, verified again with the spec's friction
+    block set to static/kinetic r = 1.3, has no entry that accumulates at any mu sample, so it is
+    not guaranteed, and the reason says that accumulation fails; a design search under r = 1.3 with
+    accumulation asked for finds nothing."""
+    coulomb = design(DesignSpec(**COARSE, accumulation=True), progress="quiet")
+    assert coulomb.found and coulomb.verification.accumulates[0]
+    static = DesignSpec(**COARSE, accumulation=True, friction=FrictionLaw("static_kinetic", 1.3))
+    cand = Candidates(*(np.array([getattr(coulomb, k)]) for k in ("period", "stroke", "y2", "y3", "c_mu")))
+    checked = verify(static, cand)
+    assert np.all(checked.frac_accumulate == 0.0) and checked.stops[0]
+    assert not checked.accumulates[0] and not checked.guaranteed[0]
+    assert "static friction mu_s/mu_k = 1.3 > 1 leaves no accumulation" in checked.failure[0]
+    assert not design(static, progress="quiet").found
+
+
+def test_spec_friction_block_is_read_and_stribeck_refused(tmp_path):
+    """Hypothesis: a spec file's friction block reaches the spec (static/kinetic r = 1.3), and Stribeck
+    is refused before any work with one line naming the file, the kind and what is allowed."""
+    data = yaml.safe_load((ROOT / "workflow/designs/smd_steel_table.yaml").read_text())
+    data["friction"] = {"kind": "static_kinetic", "mu_s_over_mu_k": 1.3}
+    assert design_spec_from_dict(data, "spec.yaml").friction == FrictionLaw("static_kinetic", 1.3)
+    data["friction"] = {"kind": "stribeck", "mu_s_over_mu_k": 1.3, "v_s": 0.01}
+    with pytest.raises(DesignSpecError, match=r"^spec\.yaml: friction\.kind stribeck is not supported by the design "
+                                              r"tool: .*exact batch solver.*allowed kinds: coulomb, static_kinetic$"):
+        design_spec_from_dict(data, "spec.yaml")

@@ -293,7 +293,8 @@ def verify(spec: DesignSpec, cand: Candidates, n_entries: int | None = None) -> 
     for c in np.unique(cand.c_mu):
         rows = np.flatnonzero(cand.c_mu == c)
         arrays = [np.stack([d[j][rows] for d in dims], axis=1) for j in range(4)]
-        grid = positioning_grid(*arrays, w=1.0, c_mu=float(c), n_entries=n_entries, progress="quiet")
+        grid = positioning_grid(*arrays, w=1.0, c_mu=float(c), n_entries=n_entries, progress="quiet",
+                                friction=spec.friction)
         length = spec.width  # L
         case[rows] = grid.case
         for key in ("frac_accumulate", "frac_stop", "frac_never_stop", "frac_undecided"):
@@ -302,9 +303,12 @@ def verify(spec: DesignSpec, cand: Candidates, n_entries: int | None = None) -> 
                            ("end_max", grid.overshoot_max)):
             out[key][rows] = value * length
         out["vbar"][rows] = grid.vbar * np.array([scale(spec, mu).unit("velocity") for mu in mus])
+    # Eq. (59)'s sufficient condition is Coulomb's; under static friction nothing accumulates
+    # (README "Static and kinetic friction"), so it is left at -1 (does not apply).
+    coulomb = spec.friction.kind == "coulomb"
     for i in range(k):
         for j, mu in enumerate(mus):
-            if case[i, j] > 0:
+            if coulomb and case[i, j] > 0:
                 profile = ThreePhaseProfile(*(float(a[i]) for a in dims[j]))
                 sufficient[i, j] = sufficient_condition(profile, float(cand.c_mu[i]))
     stops = np.all((out["frac_accumulate"] + out["frac_stop"]) == 1.0, axis=1)
@@ -341,7 +345,8 @@ def _process_runs(spec, cand, mus, dims, x_d, stops, out) -> np.ndarray:
     level = (x_d[member] - spec.tolerance) / length
     res = simulate_batch(three_phase_table(dt, dy, y2, y3), -spec.distance / length, 0.0, 0.0,
                          profile_index=np.arange(member.size), x_mu=np.zeros(member.size), w=np.ones(member.size),
-                         c_mu=cand.c_mu[member], levels=level[:, None], until="rest", max_periods=budget)
+                         c_mu=cand.c_mu[member], levels=level[:, None], until="rest", max_periods=budget,
+                         friction=spec.friction)
     period = cand.period[member]
     out["t_arrive"][member, col] = res.crossing_time(2) * period
     out["t_rest"][member, col] = res.t_end * period
@@ -359,6 +364,8 @@ def _failure(spec, i, out, stops, accumulates, within, process_stops, in_time, s
         worst = int(np.nanargmin(out["frac_accumulate"][i]))
         why = {1: "although the sufficient condition of Sect. 7.3 holds", 0: "the sufficient condition of Sect. 7.3 "
                "fails", -1: "eq. 59 does not apply"}[int(sufficient[i, worst])]
+        if spec.friction.kind != "coulomb":
+            why = f"static friction mu_s/mu_k = {spec.friction.ratio:g} > 1 leaves no accumulation"
         share = 100 * out["frac_accumulate"][i, worst]
         return f"{FAILURES[1]}: only {share:.0f} % accumulate at mu sample {worst} ({why})"
     if not within[i]:
@@ -435,7 +442,12 @@ class Design:
 
     @property
     def assumptions(self) -> tuple[str, ...]:
-        return ASSUMPTIONS
+        """:data:`ASSUMPTIONS`, with the spec's friction law in place of Coulomb's."""
+        if self.spec.friction.kind == "coulomb":
+            return ASSUMPTIONS
+        law = (f"static/kinetic friction, mu_s = {self.spec.friction.ratio:g} mu_k, kinetic coefficient mu on the "
+               f"base and c_mu mu on the strip")
+        return (ASSUMPTIONS[0], law, *ASSUMPTIONS[2:])
 
     def profile_at(self, mu: float) -> ThreePhaseProfile:
         """The dimensionless profile the model sees at friction coefficient ``mu`` (L = width)."""
@@ -475,7 +487,7 @@ class Design:
             f"[{v.mu[0]:.4g}, {v.mu[-1]:.4g}] ends at rest"
             + (" by accumulation" if self.spec.accumulation else "")
             + f"; closed forms at {DENSE_MU} mu; robustness margin +-{100 * self.margin:.0f} % of mu",
-            "assumes: " + "; ".join(ASSUMPTIONS),
+            "assumes: " + "; ".join(self.assumptions),
             f"search: {self.search['designs']} designs, {self.search['screened']} pass the closed forms, "
             f"{self.search['verified']} simulated, {self.search['seconds']:.2g} s",
         ]
@@ -716,13 +728,13 @@ def design_map(result: Design, *, refine: int = 1, entries: int = 32, progress: 
     physical = scr.physical
     case = np.zeros(y2.size, np.int8)
     grid = positioning_grid(*(d[physical] for d in dims), w=1.0, c_mu=result.c_mu, n_entries=entries,
-                            progress=progress)
+                            progress=progress, friction=spec.friction)
     case[physical] = grid.case
     frac = {key: np.full(y2.size, np.nan) for key in ("frac_accumulate", "frac_stop")}
     for key in frac:
         frac[key][physical] = getattr(grid, key)
     sufficient = np.full(y2.size, -1, np.int8)
-    for i in np.flatnonzero(case > 0):
+    for i in np.flatnonzero(case > 0) if spec.friction.kind == "coulomb" else ():  # as in verify
         sufficient[i] = sufficient_condition(ThreePhaseProfile(*(float(d[i]) for d in dims)), result.c_mu)
     square = lambda a: a.reshape(n, n)  # noqa: E731
     return DesignMap(axis, axis, square(case), square(physical), square(scr.moves), square(scr.holds),

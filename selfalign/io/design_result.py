@@ -24,7 +24,8 @@ MAPPED = ("y2", "y3", "case", "physical", "moves", "holds", "screened", "suffici
 
 def design_content(design, design_map=None) -> tuple[dict, dict, dict]:
     """(datasets, attrs, groups) for :func:`selfalign.io.hdf5.write_h5`."""
-    attrs = {"spec": asdict(design.spec), "found": bool(design.found), "explanation": design.explanation,
+    spec = {**asdict(design.spec), "friction": design.spec.friction.params()}
+    attrs = {"spec": spec, "found": bool(design.found), "explanation": design.explanation,
              "report": design.report(), "assumptions": list(design.assumptions), "case": int(design.case),
              "case_label": design.case_label if design.case else "", "search": dict(design.search)}
     groups = {"front_time_error": {"datasets": {k: np.asarray(v) for k, v in design.front_time_error.items()}},

@@ -13,6 +13,7 @@ from pathlib import Path
 
 from ..model.design_spec import DesignGrid, DesignSpec, period_from_frequency
 from ..model.errors import SceneError
+from ..model.friction import FrictionLaw
 from .scene_files import first_non_finite, read_yaml, schema_error_message
 
 
@@ -61,6 +62,7 @@ def design_spec_from_dict(data, source: str = "<design>", name: str | None = Non
             tolerance=task["tolerance"], accumulation=task.get("accumulation", False),
             objective=task.get("objective", "process_time"), max_process_time=task.get("max_process_time"),
             name=data.get("name", name or "design"), grid=DesignGrid(**data.get("search", {})),
+            friction=FrictionLaw(**data.get("friction", {})),
         )
     except ValueError as exc:
         raise DesignSpecError(f"{source}: {exc}") from None

@@ -12,6 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from .errors import check_finite, check_integer, check_positive
+from .friction import FrictionLaw
 
 OBJECTIVES = ("process_time", "robustness")
 
@@ -50,7 +51,9 @@ class DesignSpec:
     ``max_stroke``; equal to it for a fixed-stroke drive such as a cam);
     ``accumulation``: require Delta_x_d = 0 (every entry accumulates at x_stick_min);
     ``objective``: "process_time" (least worst-case process time) or "robustness" (largest
-    mu margin with a worst-case process time <= ``max_process_time``).
+    mu margin with a worst-case process time <= ``max_process_time``); ``friction``: the
+    friction law (the paper's Coulomb friction or static/kinetic with mu_s = r mu_k on base and
+    strip alike; not Stribeck: the guarantee simulates with the exact batch solver).
     """
 
     mu: float
@@ -69,8 +72,15 @@ class DesignSpec:
     name: str = "design"
     min_stroke: float | None = None
     grid: DesignGrid = field(default_factory=DesignGrid)
+    friction: FrictionLaw = field(default_factory=FrictionLaw)
 
     def __post_init__(self):
+        if not isinstance(self.friction, FrictionLaw):
+            raise ValueError(f"friction must be a FrictionLaw, got {type(self.friction).__name__}")
+        if self.friction.stribeck:
+            raise ValueError("friction.kind stribeck is not supported by the design tool: its guarantee simulates "
+                             "every entry with the exact batch solver, which has no Stribeck arcs; allowed kinds: "
+                             "coulomb, static_kinetic")
         for key in ("mu", "width", "max_stroke", "max_acceleration", "distance", "tolerance", "g"):
             check_positive(key, getattr(self, key))
         if self.min_stroke is not None and not 0.0 < check_finite("min_stroke", self.min_stroke) <= self.max_stroke:
@@ -116,7 +126,8 @@ class DesignSpec:
         return (f"mu = {self.mu:g} +- {100 * self.mu_uncertainty:g} % ({lo:.4g}..{hi:.4g}), c_mu = {c}, "
                 f"w = {1e3 * self.width:g} mm, stroke {stroke} mm, |y''| <= "
                 f"{self.max_acceleration:g} m/s^2, f = {f_lo:.4g}..{f_hi:.4g} Hz, distance {1e3 * self.distance:g} mm, "
-                f"tolerance {1e6 * self.tolerance:g} um{', accumulation' if self.accumulation else ''}")
+                f"tolerance {1e6 * self.tolerance:g} um{', accumulation' if self.accumulation else ''}"
+                + (f", mu_s/mu_k = {self.friction.ratio:g}" if self.friction.kind != "coulomb" else ""))
 
 
 def period_from_frequency(low_hz: float, high_hz: float) -> tuple[float, float]:
