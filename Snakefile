@@ -34,6 +34,7 @@ include: "workflow/rules/convergence.smk"
 include: "workflow/rules/classification.smk"
 include: "workflow/rules/accumulation.smk"
 include: "workflow/rules/design.smk"
+include: "workflow/rules/finite_jerk.smk"
 include: "workflow/rules/figures.smk"
 include: "workflow/rules/report.smk"
 

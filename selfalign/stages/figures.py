@@ -19,11 +19,13 @@ from ..plots.accumulation import figure_14, figure_15, figure_16, figure_17, fig
 from ..plots.annotate import overshoot_dimensions
 from ..plots.classification import figure_04, figure_05, figure_06, figure_08, figure_map
 from ..plots.design import figure_design
+from ..plots.finite_jerk import finite_jerk_figure
 from ..plots.profile import figure_07
 from ..plots.simulation import figure_03, figure_09, figure_12, figure_accuracy_cost
 from ..plots.stability import figure_13
 from .accumulation import setting_group
 from .classification import fig06_mass_displacement
+from .finite_jerk import grids_from_result
 
 
 def _fig09(results, periods):
@@ -59,6 +61,7 @@ FIGURES = {
     "fig17": lambda results: figure_17(*results),  # fig17.h5, fig18.h5 (its setting is marked)
     "fig18": lambda results: figure_18(*results),
     "accuracy_cost": figure_accuracy_cost,
+    "finite_jerk": lambda results: finite_jerk_figure(*grids_from_result(*results)),
 }
 
 

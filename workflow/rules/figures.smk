@@ -12,6 +12,7 @@ STABILITY_FIGURES = "Stability and convergence (Sect. 6)"
 ACCUMULATION_FIGURES = "Stopping and accumulation (Sect. 7)"
 SOLVER_FIGURES = "Solvers: accuracy against cost"
 DESIGN_FIGURES = "Designing a self-aligning station"
+ROBUSTNESS_FIGURES = "Beyond the paper's model"
 PORTRAITS = ACCUMULATION["portraits"]["settings"]
 
 #: name -> (report category, input result files, options of selfalign.stages.figures.draw)
@@ -37,6 +38,7 @@ FIGURES = {
     "fig17": (ACCUMULATION_FIGURES, [results("accumulation", "fig17"), results("accumulation", "fig18")], {}),
     "fig18": (ACCUMULATION_FIGURES, [results("accumulation", "fig18")], {}),
     "accuracy_cost": (SOLVER_FIGURES, [results("accuracy", n) for n in scenes("accuracy")], {}),
+    "finite_jerk": (ROBUSTNESS_FIGURES, [results("finite_jerk", "finite_jerk")], {}),
     # One per design spec (selfalign.stages.figures.FAMILIES), all with the caption design.rst.
     **{f"design_{name}": (DESIGN_FIGURES, [results("design", name)], {}) for name in DESIGNS},
 }
