@@ -180,6 +180,18 @@ def test_exact_agrees_with_ivp(params):
         assert abs(exact - ivp) <= 1e-10
 
 
+def test_a_slip_from_rest_shorter_than_the_grid_spacing_ends():
+    """A start at rest on the ramp from +y3'' to 0 where y'' is just above 1 (y3'' = 2.0333, ramp
+    1 % of dt: the backward slip lasts ~2e-4, under the grid's spacing dt / 1600) is a slip that
+    ends, found between the grid point where x' is back through 0 and a point of the slip's sign
+    before it: the exact end after 20 periods agrees with solve_ivp to 1e-10 (before, the slip went
+    on with x' of the wrong sign: x_end = 383 against 0.178)."""
+    p = FiniteJerkProfile(1.38, 0.064, 2.0, 0.1 + 10 * 2.9 / 15, ramp=0.01 * 1.38)
+    exact = run(p, periods=20).x_end
+    ivp = run(p, "ivp", periods=20, rtol=1e-10, atol=1e-12).x_end
+    assert abs(exact - ivp) <= 1e-10
+
+
 def test_moreau_converges_to_exact():
     """Cross-check: Moreau converges to the exact solver on the ramped profile at about first order:
     the least-squares slope of log error against log h over 1e3 ... 1e6 steps per period lies in
