@@ -35,6 +35,7 @@ include: "workflow/rules/classification.smk"
 include: "workflow/rules/accumulation.smk"
 include: "workflow/rules/effects.smk"
 include: "workflow/rules/design.smk"
+include: "workflow/rules/finite_jerk.smk"
 include: "workflow/rules/figures.smk"
 include: "workflow/rules/report.smk"
 

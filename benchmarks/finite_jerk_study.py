@@ -2,12 +2,14 @@
 
 Run:  python benchmarks/finite_jerk_study.py OUT_DIR
 
-For ramps of y'' of 0, 1, 5 and 10 % of the period: vbar and the case of Table 1 over the
-Fig. 11 plane (dt = 1.38, dy = 0.064, y2'', y3'' in [0.1, 3], 24 x 24, exact solver) and the
+The workflow's stage (selfalign.stages.finite_jerk, rule compute_finite_jerk) on finer grids:
+for ramps of y'' of 0, 1, 5 and 10 % of the period, vbar and the case of Table 1 over the
+Fig. 10 plane (dt = 0.072, dy = 0.021, y2'' in [20, 1500], y3'' in [20, 300]) and the Fig. 11
+plane (dt = 1.38, dy = 0.064, y2'', y3'' in [0.1, 3]), 24 x 24 each, exact solver, and the
 stopping of 16 steady-state entries into the stop zone (w = 0.05, c_mu = 2.5) over the Fig. 17
 plane (dt = 1, dy = 0.084, y2'', y3'' in [0.5, 2.5], 21 x 21, Moreau with dt/10^4).  Writes
-OUT_DIR/finite_jerk.npz and OUT_DIR/finite_jerk.png and prints the summary.  Not part of the
-Snakemake workflow (a study of the model's robustness, not a figure of the paper).
+OUT_DIR/finite_jerk.h5 and OUT_DIR/finite_jerk.png and prints the summary of the Fig. 11 and
+Fig. 17 planes.
 """
 
 from __future__ import annotations
@@ -16,13 +18,24 @@ import sys
 from pathlib import Path
 
 import numpy as np
-from matplotlib.figure import Figure
 
-from selfalign.analysis.finite_jerk import steady_grid, stopping_grid
+from selfalign.io.hdf5 import write_h5
 from selfalign.plots.finite_jerk import finite_jerk_figure
+from selfalign.stages.common import save_figure
+from selfalign.stages.finite_jerk import finite_jerk_results, grids_from_result
 
 FRACTIONS = (0.0, 0.01, 0.05, 0.10)
-C_MU = 2.5
+ZONE = {"w": 0.05, "c_mu": 2.5}
+
+
+def axis(lo: float, hi: float, count: int) -> dict:
+    return {"from": lo, "to": hi, "count": count, "scale": "linear"}
+
+
+STEADY = {"fig10": {"dt": 0.072, "dy": 0.021, "y2": axis(20.0, 1500.0, 24), "y3": axis(20.0, 300.0, 24)},
+          "fig11": {"dt": 1.38, "dy": 0.064, "y2": axis(0.1, 3.0, 24), "y3": axis(0.1, 3.0, 24)}}
+STOPPING = {"dt": 1.0, "dy": 0.084, "y2": axis(0.5, 2.5, 21), "y3": axis(0.5, 2.5, 21), "n_entries": 16,
+            "steps_per_period": 10_000, "max_periods": 1000}
 
 
 def summary(steady, stopping, c_mu: float) -> list[str]:
@@ -61,16 +74,14 @@ def summary(steady, stopping, c_mu: float) -> list[str]:
 
 def main(out: Path) -> None:
     out.mkdir(parents=True, exist_ok=True)
-    steady = steady_grid(1.38, 0.064, np.linspace(0.1, 3.0, 24), np.linspace(0.1, 3.0, 24), FRACTIONS)
-    stopping = stopping_grid(1.0, 0.084, np.linspace(0.5, 2.5, 21), np.linspace(0.5, 2.5, 21), FRACTIONS,
-                             w=0.05, c_mu=C_MU)
-    np.savez(out / "finite_jerk.npz", ramp_fractions=steady.ramp_fractions, steady_y2=steady.y2,
-             steady_y3=steady.y3, vbar=steady.vbar, case=steady.case, stopping_y2=stopping.y2,
-             stopping_y3=stopping.y3, frac_accumulate=stopping.frac_accumulate, frac_rest=stopping.frac_rest,
-             dx_d=stopping.dx_d)
-    fig = finite_jerk_figure(Figure(figsize=(18, 15), layout="constrained"), steady, stopping)
-    fig.savefig(out / "finite_jerk.png", dpi=100)
-    print("\n".join(summary(steady, stopping, C_MU)))
+    content = finite_jerk_results(FRACTIONS, STEADY, STOPPING, ZONE)
+    path = write_h5(out / "finite_jerk.h5", *content,
+                    config={"ramp_fractions": list(FRACTIONS), "steady": STEADY, "stopping": STOPPING, "zone": ZONE})
+    datasets, _, groups = content
+    steady, stopping = grids_from_result({"datasets": datasets, "groups": groups})
+    save_figure(finite_jerk_figure(steady, stopping), out / "finite_jerk.png", dpi=100)
+    print(f"written to {path}")
+    print("\n".join(summary(steady["fig11"], stopping, ZONE["c_mu"])))
 
 
 if __name__ == "__main__":

@@ -180,6 +180,18 @@ def test_exact_agrees_with_ivp(params):
         assert abs(exact - ivp) <= 1e-10
 
 
+def test_a_slip_from_rest_shorter_than_the_grid_spacing_ends():
+    """A start at rest on the ramp from +y3'' to 0 where y'' is just above 1 (y3'' = 2.0333, ramp
+    1 % of dt: the backward slip lasts ~2e-4, under the grid's spacing dt / 1600) is a slip that
+    ends, found between the grid point where x' is back through 0 and a point of the slip's sign
+    before it: the exact end after 20 periods agrees with solve_ivp to 1e-10 (before, the slip went
+    on with x' of the wrong sign: x_end = 383 against 0.178)."""
+    p = FiniteJerkProfile(1.38, 0.064, 2.0, 0.1 + 10 * 2.9 / 15, ramp=0.01 * 1.38)
+    exact = run(p, periods=20).x_end
+    ivp = run(p, "ivp", periods=20, rtol=1e-10, atol=1e-12).x_end
+    assert abs(exact - ivp) <= 1e-10
+
+
 def test_moreau_converges_to_exact():
     """Cross-check: Moreau converges to the exact solver on the ramped profile at about first order:
     the least-squares slope of log error against log h over 1e3 ... 1e6 steps per period lies in
@@ -274,3 +286,40 @@ def test_ramps_create_accumulation_where_the_paper_has_none_and_ivp_agrees():
     ivp = stopping(ramped, w=0.05, c_mu=2.5, method="ivp")
     assert moreau.frac_accumulate == ivp.frac_accumulate == 3 / 16
     assert moreau.frac_rest == ivp.frac_rest
+
+
+def test_stage_result_reads_back_into_the_grids_and_the_figure(tmp_path):
+    """The workflow stage's content (stages.finite_jerk), written with write_h5 and read back, gives
+    the grids steady_grid and stopping_grid compute directly (bit for bit, every steady plane by name),
+    and draw("finite_jerk") makes two rows per steady plane plus two stopping rows of one panel per
+    ramp fraction."""
+    from selfalign.analysis.finite_jerk import steady_grid, stopping_grid
+    from selfalign.io.hdf5 import read_h5, write_h5
+    from selfalign.stages.figures import draw
+    from selfalign.stages.finite_jerk import finite_jerk_results, grids_from_result
+
+    def axis(lo, hi):
+        return {"from": lo, "to": hi, "count": 2, "scale": "linear"}
+
+    fractions = [0.0, 0.05]
+    steady = {"fig10": {"dt": 0.072, "dy": 0.021, "y2": axis(200.0, 1500.0), "y3": axis(50.0, 300.0)},
+              "fig11": {"dt": 1.38, "dy": 0.064, "y2": axis(1.0, 3.0), "y3": axis(0.5, 3.0)}}
+    stop = {"dt": 1.0, "dy": 0.084, "y2": axis(1.8, 2.3), "y3": axis(1.3, 1.5), "n_entries": 2,
+            "steps_per_period": 500, "max_periods": 300}
+    zone = {"w": 0.05, "c_mu": 2.5}
+    path = write_h5(tmp_path / "finite_jerk.h5", *finite_jerk_results(fractions, steady, stop, zone, progress="quiet"))
+    result = read_h5(path)
+    planes, stopping = grids_from_result(result)
+    assert list(planes) == ["fig10", "fig11"]
+    for name, plane in steady.items():
+        direct = steady_grid(plane["dt"], plane["dy"], np.linspace(plane["y2"]["from"], plane["y2"]["to"], 2),
+                             np.linspace(plane["y3"]["from"], plane["y3"]["to"], 2), fractions, progress="quiet")
+        for field in ("ramp_fractions", "y2", "y3", "vbar", "case"):
+            assert np.array_equal(getattr(planes[name], field), getattr(direct, field), equal_nan=True), field
+    direct = stopping_grid(1.0, 0.084, [1.8, 2.3], [1.3, 1.5], fractions, w=0.05, c_mu=2.5, n_entries=2,
+                           steps_per_period=500, max_periods=300, progress="quiet")
+    for field in ("y2", "y3", "frac_accumulate", "frac_rest", "dx_d"):
+        assert np.array_equal(getattr(stopping, field), getattr(direct, field), equal_nan=True), field
+    fig = draw("finite_jerk", [result])
+    panels = [ax for ax in fig.axes if ax.get_label() != "<colorbar>"]
+    assert len(panels) == (2 * len(steady) + 2) * len(fractions)

@@ -130,6 +130,11 @@ def small_config(repo: Path) -> dict:
     s["effects"]["static_friction"].update(y2=axis(2.0, 2.4), y3=axis(1.0, 1.4), n_entries=4, ratios=[1.0, 1.3],
                                            settings=[[2.3, 1.3]], sweep_entries=4,
                                            excess={"from": 0.1, "to": 0.3, "count": 2, "scale": "log"})
+    j = s["finite_jerk"]
+    j["ramp_fractions"] = [0.0, 0.05]
+    for plane in j["steady"].values():
+        plane.update(y2=axis(plane["y2"]["from"], plane["y2"]["to"]), y3=axis(plane["y3"]["from"], plane["y3"]["to"]))
+    j["stopping"].update(y2=axis(2.0, 2.4), y3=axis(1.0, 1.4), n_entries=2, steps_per_period=200, max_periods=200)
     return config
 
 
@@ -156,7 +161,8 @@ def test_every_result_of_a_small_pipeline_run_is_self_describing(repo, workdir):
     targets += [f"results/stability/grid_{g}.h5" for g in s["stability"]["grids"]]
     targets += [f"results/classification/{n}.h5" for n in ("fig04", "fig06", "verify_maps")]
     targets += [f"results/accumulation/{n}.h5" for n in ("fig16", "fig17", "fig18")]
-    targets += [f"results/design/{s['design']['designs'][-1]}.h5", "results/effects/static_friction.h5"]
+    targets += [f"results/design/{s['design']['designs'][-1]}.h5", "results/effects/static_friction.h5",
+                "results/finite_jerk/finite_jerk.h5"]
     rc, out = snakemake(workdir, "-c2", *targets)
     assert rc == 0, out
     ran = set(re.findall(r"^(?:local)?rule (\w+):", out, flags=re.M))

@@ -21,15 +21,12 @@ import numpy as np
 
 from ..model.errors import check_integer, check_positive
 from ..model.friction import StopZone
-from ..model.profiles import FiniteJerkProfile, ThreePhaseProfile
+from ..model.profiles import RAMPS_TOO_LONG, FiniteJerkProfile, ThreePhaseProfile
 from ..model.scene import Record, Scene
 from ..progress import Progress, resolve_mode
 from ..solvers.driver import simulate, simulate_batch
 from ..solvers.outcomes import Status
 from .steady_simulation import exact_steady_state
-
-#: Case code of a setting whose ramps do not fit its phases (FiniteJerkProfile refuses it).
-RAMPS_TOO_LONG = -1
 
 
 def jerk_profile(dt: float, dy: float, y2: float, y3: float, ramp_fraction: float):

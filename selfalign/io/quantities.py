@@ -24,7 +24,7 @@ import fnmatch
 from collections.abc import Mapping
 from dataclasses import dataclass
 
-from ..model.profiles import CASE_LABELS
+from ..model.profiles import CASE_LABELS, RAMPS_TOO_LONG
 from ..model.units import SIScale
 from ..solvers.outcomes import MODE_NAMES, STATUS_CODES, EventKind, Reason
 
@@ -249,6 +249,18 @@ QUANTITIES: dict[str, Quantity] = {
     "sweep/y3": Quantity("acceleration", "y3'' of each sweep setting"),
     "sweep/dx_d": Quantity("length", "[setting, r]: dx_d (eq. 39) over the entries that stop"),
     "sweep/frac_accumulate": Quantity("number", "[setting, r]: fraction of the entries that accumulate"),
+    # finite jerk (selfalign.stages.finite_jerk): grids of shape (ramp fractions, y2'', y3'')
+    "ramp_fractions": Quantity("number", "ramp time of y'' at each switch as a fraction of dt (0: the paper's "
+                                         "profile)"),
+    "steady_*/case": Quantity("code", "case of Table 1 of the steady state, exact solver (0: no physical profile)",
+                              {**CASE_LEGEND, RAMPS_TOO_LONG: "ramps longer than their phases"}),
+    "steady_*/vbar": Quantity("velocity", "steady average velocity vbar (eq. 10), exact solver; NaN without a "
+                                          "profile"),
+    "stopping/frac_accumulate": Quantity("number", "fraction of the steady-state entries into the stop zone that "
+                                                   "accumulate; NaN where the mass does not move forward"),
+    "stopping/frac_rest": Quantity("number", "fraction of the steady-state entries into the stop zone that come to "
+                                             "rest; NaN where the mass does not move forward"),
+    "stopping/dx_d": Quantity("length", "dx_d (eq. 39) over the entries that stop; NaN where none stops"),
 }
 
 #: Axes and profile of a design (results/design/<spec>.h5), in SI.

@@ -26,6 +26,8 @@ CASE_LABELS = {
     4: "slip-slip",
     5: "pure stick",
 }
+#: Case code of a finite-jerk setting whose ramps do not fit its phases (FiniteJerkProfile refuses it).
+RAMPS_TOO_LONG = -1
 
 
 class Profile:

@@ -593,6 +593,20 @@ def _brent(kind, row, t0, sign, v, s0, yd0, limit, xa, xb, xtol, rtol):
 
 
 @jit
+def _slip_sign_point(row, t0, sign, v, s0, yd0, limit, right):
+    """A point of (s0, right) where the slip from rest at s0 in direction ``sign`` has the
+    slip's sign (found by halving from ``right``, the first tries nearest it); s0 if there is
+    none above 2^-60 (right - s0).  Its velocity is 0 at s0 and x'' has the slip's sign there
+    (|y''| > r mu_bar), so such a point exists unless the slip has no length."""
+    p = right
+    for _ in range(60):
+        p = s0 + 0.5 * (p - s0)
+        if _event_function(1, row, t0, p, sign, v, s0, yd0, limit) > 0.0:
+            return p
+    return s0
+
+
+@jit
 def _grid_intervals(row):
     """Intervals of the smooth stepper's grid on one period: 64 (order + 1) on a Fourier
     profile, :data:`GRID_PER_PIECE` per piece on a piecewise-linear one."""
@@ -692,18 +706,29 @@ def _period_smooth(s, row, until, max_events, bnd, cross, record, arcs, events, 
             sigma = float(mode)
             y0, yd0, ydd0 = _table_motion(row, tau0 + s0)
             # First grid point where the velocity has the slip's sign (a slip from rest
-            # first has to leave v = 0), then the first where it has lost it again.
+            # first has to leave v = 0), then the first where it has lost it again.  A slip
+            # from rest already back through v = 0 at a grid point (shorter than the grid's
+            # spacing) is bracketed between that point and one of the slip's sign before it.
             k = k0
+            short = False
             if not sigma * v > 0.0:
-                while k < g and not sigma * (v - sigma * (grid[k] - s0) - (g_yd[k] - yd0)) > 0.0:
+                while k < g:
+                    moved = sigma * (v - sigma * (grid[k] - s0) - (g_yd[k] - yd0))
+                    if moved != 0.0:
+                        short = moved < 0.0
+                        break
                     k += 1
-            while k < g and sigma * (v - sigma * (grid[k] - s0) - (g_yd[k] - yd0)) > 0.0:
-                k += 1
+            if not short:
+                while k < g and sigma * (v - sigma * (grid[k] - s0) - (g_yd[k] - yd0)) > 0.0:
+                    k += 1
             if k >= g:
                 root = dt
                 found = False
             else:
-                left = grid[k - 1] if k > k0 else s0
+                if short:
+                    left = _slip_sign_point(row, tau0, sigma, v, s0, yd0, limit, grid[k])
+                else:
+                    left = grid[k - 1] if k > k0 else s0
                 root = _brent(1, row, tau0, sigma, v, s0, yd0, limit, left, grid[k], xtol, rtol)
                 found = True
             d = root - s0

@@ -20,11 +20,13 @@ from ..plots.annotate import overshoot_dimensions
 from ..plots.classification import figure_04, figure_05, figure_06, figure_08, figure_map
 from ..plots.design import figure_design
 from ..plots.effects import figure_static_friction
+from ..plots.finite_jerk import finite_jerk_figure
 from ..plots.profile import figure_07
 from ..plots.simulation import figure_03, figure_09, figure_12, figure_accuracy_cost
 from ..plots.stability import figure_13
 from .accumulation import setting_group
 from .classification import fig06_mass_displacement
+from .finite_jerk import grids_from_result
 
 
 def _fig09(results, periods):
@@ -61,6 +63,7 @@ FIGURES = {
     "fig18": lambda results: figure_18(*results),
     "accuracy_cost": figure_accuracy_cost,
     "static_friction": lambda results: figure_static_friction(*results),
+    "finite_jerk": lambda results: finite_jerk_figure(*grids_from_result(*results)),
 }
 
 

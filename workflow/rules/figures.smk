@@ -12,7 +12,7 @@ STABILITY_FIGURES = "Stability and convergence (Sect. 6)"
 ACCUMULATION_FIGURES = "Stopping and accumulation (Sect. 7)"
 SOLVER_FIGURES = "Solvers: accuracy against cost"
 DESIGN_FIGURES = "Designing a self-aligning station"
-EFFECT_FIGURES = "Beyond the paper: friction laws"
+EFFECT_FIGURES = "Beyond the paper's model: finite jerk and friction laws"
 PORTRAITS = ACCUMULATION["portraits"]["settings"]
 
 #: name -> (report category, input result files, options of selfalign.stages.figures.draw)
@@ -39,6 +39,7 @@ FIGURES = {
     "fig18": (ACCUMULATION_FIGURES, [results("accumulation", "fig18")], {}),
     "accuracy_cost": (SOLVER_FIGURES, [results("accuracy", n) for n in scenes("accuracy")], {}),
     "static_friction": (EFFECT_FIGURES, [results("effects", "static_friction")], {}),
+    "finite_jerk": (EFFECT_FIGURES, [results("finite_jerk", "finite_jerk")], {}),
     # One per design spec (selfalign.stages.figures.FAMILIES), all with the caption design.rst.
     **{f"design_{name}": (DESIGN_FIGURES, [results("design", name)], {}) for name in DESIGNS},
 }
