@@ -20,6 +20,10 @@ finite-jerk profile), at a period boundary
   that no crossing is stepped over.  On piecewise-constant profiles stick is left at the
   first piece with |y''| > r mu_bar, without integration.
 
+Under Stribeck friction a slip step is at most v_s / (max|y''| + r max mu_bar) long: v changes
+by at most v_s in one step, so no step crosses the band |v| ~ v_s where mu rises to mu_s with
+no stage inside it (its error estimate would see mu_k only and accept an error far above rtol).
+
 At v = 0 the mode is decided like the model (:func:`selfalign.model.friction.decide_mode`).
 Velocities are set to exactly 0 at v = 0 events and positions exactly onto a zone
 boundary at zone events.
