@@ -150,6 +150,18 @@ def test_stribeck_converges_to_static_kinetic():
                                                      **IVP_TIGHT).x_end, abs=1e-4)
 
 
+@pytest.mark.parametrize("rtol", [1e-4, 1e-5, 1e-6, 3e-7, 1e-7, 1e-8])
+def test_ivp_keeps_its_tolerance_under_stribeck_friction(rtol):
+    """solve_ivp keeps to the tolerance asked for under Stribeck friction: the first period of the
+    accuracy_stribeck motion (a slip of speed 0.3 coming to rest, where mu rises from mu_k to mu_s
+    within |v| ~ v_s = 0.01) ends within rtol of the same solver at rtol 1e-12.  Fails if a step
+    may cross that speed band with no stage inside it: its error estimate then sees kinetic
+    friction only, and the stick comes out far off (1.5e-3 at rtol 1e-7, 1e4 rtol)."""
+    scene = _scene(FrictionLaw("stribeck", 1.3, 0.01), periods=1)
+    reference = sa.simulate(scene, "ivp", rtol=1e-12, atol=1e-14).x_end
+    assert abs(sa.simulate(scene, "ivp", rtol=rtol, atol=1e-2 * rtol).x_end - reference) <= rtol
+
+
 @pytest.mark.parametrize("method", ["exact", "moreau", "ivp"])
 def test_rest_message_reports_the_static_limit(method):
     """A mass stuck at x = 0.03 in the zone (mu_bar = 1.9 < max|y''| = 2.2 <= 1.3 mu_bar) rests there

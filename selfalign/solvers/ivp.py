@@ -20,6 +20,10 @@ finite-jerk profile), at a period boundary
   that no crossing is stepped over.  On piecewise-constant profiles stick is left at the
   first piece with |y''| > r mu_bar, without integration.
 
+Under Stribeck friction a slip step is at most v_s / (max|y''| + r max mu_bar) long: v changes
+by at most v_s in one step, so no step crosses the band |v| ~ v_s where mu rises to mu_s with
+no stage inside it (its error estimate would see mu_k only and accept an error far above rtol).
+
 At v = 0 the mode is decided like the model (:func:`selfalign.model.friction.decide_mode`).
 Velocities are set to exactly 0 at v = 0 events and positions exactly onto a zone
 boundary at zone events.
@@ -73,6 +77,15 @@ class _Run:
             self.switches = set(profile.breaks[1:].tolist())      # the period end is a switch too
         else:
             self.stick_max_step = self.dt / (16 * getattr(profile, "order", 1))
+        # Stribeck friction rises from mu_k to mu_s within |v| ~ v_s of v = 0.  A step longer than
+        # that band takes to cross can sample the slip law only at speeds where it is mu_k: its error
+        # estimate is blind to the extra friction, and the step is accepted with an error far above
+        # rtol.  The step is therefore capped so that v changes by at most v_s in one, |x''| being at
+        # most max|y''| + r max mu_bar.
+        self.slip_max_step = math.inf
+        if self.law.stribeck:
+            top_mu = self.surface.c_mu if self.zone else 1.0
+            self.slip_max_step = self.law.v_s / (profile.max_abs_acceleration + self.law.ratio * top_mu)
         self.origin = origin
         self.tau0 = scene.phase * self.dt
         self.p, self.tau = 0, self.tau0
@@ -252,7 +265,7 @@ class _Run:
             side = -1.0 if (self.x > b or (self.x == b and s > 0)) else 1.0
             events.append(_event(lambda t, y, b=b: y[0] - b, side))
         sol = solve_ivp(rhs, (tau_a, tau_b), [self.x, self.v], method=self.integrator, rtol=self.rtol,
-                        atol=self.atol, events=events, dense_output=self.dense)
+                        atol=self.atol, max_step=self.slip_max_step, events=events, dense_output=self.dense)
         self.count(sol)
         if sol.status == -1:
             return Reason.SOLVER_FAILED, f"solve_ivp failed in slip at period {self.p}, tau {tau_a!r}: {sol.message}"
