@@ -45,6 +45,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..model.design_spec import DesignSpec
+from ..model.friction import stick_limit
 from ..model.profiles import CASE_LABELS, ThreePhaseProfile, three_phase_feasibility, three_phase_times
 from ..model.units import SIScale
 from ..progress import Progress
@@ -204,11 +205,17 @@ def screen(spec: DesignSpec, cand: Candidates) -> Screen:
     return Screen(physical, moves, holds, shape, within, slip_phase(spec, cand) < 0.5 * math.pi, vbar_min, t_est)
 
 
+def slip_frequency(spec: DesignSpec, c_mu):
+    """omega = sqrt((c_mu - 1) mu g / w) in rad/s at mu_max: the frequency of the harmonic slip of
+    Sect. 7.3 (eq. 42) in the strip."""
+    return np.sqrt((c_mu - 1.0) * spec.mu_range[1] * spec.g / spec.width)
+
+
 def slip_phase(spec: DesignSpec, cand: Candidates) -> np.ndarray:
-    """omega (t2 - t1) at mu_max: the phase of the harmonic slip of Sect. 7.3 (eq. 42) over the
-    y2'' window, omega = sqrt((c_mu - 1) mu g / w) in rad/s (the Appendix's times are scale-free)."""
+    """omega (t2 - t1) at mu_max (:func:`slip_frequency`): the phase of the harmonic slip over the
+    y2'' window (the Appendix's times are scale-free)."""
     times = three_phase_times(cand.period, cand.stroke, cand.y2, cand.y3)
-    return np.sqrt((cand.c_mu - 1.0) * spec.mu_range[1] * spec.g / spec.width) * (times.t2 - times.t1)
+    return slip_frequency(spec, cand.c_mu) * (times.t2 - times.t1)
 
 
 def robustness_margin(spec: DesignSpec, cand: Candidates) -> np.ndarray:
@@ -274,7 +281,7 @@ def sufficient_condition(profile: ThreePhaseProfile, c_mu: float) -> int:
         return -1
     if not bool(stick_map_validity(0.0, profile, w=1.0, c_mu=c_mu, x_mu=0.0).valid):
         return -1
-    x_stick_min = (profile.y2 - 1.0) / (c_mu - 1.0)  # eq. (41) with max(y2, y3) = y2
+    x_stick_min = stick_limit(profile.y2, 1.0, c_mu)  # eq. (41) with max(y2, y3) = y2
     return int(float(stick_map(0.0, profile, w=1.0, c_mu=c_mu, x_mu=0.0)) < x_stick_min)
 
 
@@ -551,7 +558,7 @@ def _explain(spec: DesignSpec, cand: Candidates, scr: Screen, checked: Verificat
     if spec.accumulation and not checked.accumulates.any():
         suff = checked.sufficient
         phase = slip_phase(spec, cand.take(np.flatnonzero(scr.ok)))
-        omega = math.sqrt((spec.c_mu[0] - 1) * hi * spec.g / spec.width)
+        omega = float(slip_frequency(spec, spec.c_mu[0]))
         text += (f". Accumulation needs y2'' > y3'' and, for the sufficient condition of Sect. 7.3 "
                  f"(x_(n+1)(x_mu) < x_stick_min, eq. 59), cos(omega (t2 - t1)) > (y2'' - mu g) / (2 (y2'' + y3'')) > 0 "
                  f"with omega = sqrt((c_mu - 1) mu g / w) = {omega:.4g} rad/s at mu_max: omega (t2 - t1) < pi/2; "
