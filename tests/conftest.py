@@ -12,6 +12,7 @@ import sys
 from pathlib import Path
 
 import pytest
+import yaml
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -65,3 +66,64 @@ def run_snakemake(workdir, *args):
     proc = subprocess.run([*SNAKEMAKE, *args], cwd=workdir, capture_output=True,
                           text=True, timeout=300, env=env)
     return proc.returncode, proc.stdout + proc.stderr
+
+
+def small_config(repo: Path) -> dict:
+    """The workflow config shrunk so that every stage runs in seconds: one scene per costly
+    stage, one sweep, 3 x 3 grids, one shard (job start-up, ~1 s, dominates)."""
+    config = yaml.safe_load((repo / "workflow/config/config.yaml").read_text())
+    s = config["stages"]
+
+    def axis(lo, hi, count=3):
+        return {"from": lo, "to": hi, "count": count, "scale": "linear"}
+
+    # Trajectory and simulation scenes (milliseconds each) stay: the figures read them.
+    s["accuracy"].update(scenes=["accuracy_steady"], fit_min_steps_per_period=10, min_timing=0.001,
+                         moreau_steps_per_period={"from": 10, "to": 1000, "count": 3, "scale": "log"},
+                         ivp_rtol={"from": 1.0e-3, "to": 1.0e-5, "count": 2, "scale": "log"})
+    s["stability"].update(scenes=["fig09_case1"], moreau_steps=[100], moreau_eps=[1.0e-3])
+    s["stability"]["grids"] = {"fig17": {**s["stability"]["grids"]["fig17"], "y2": axis(0.3, 6.0),
+                                         "y3": axis(0.3, 6.0), "moreau_steps": 100}}
+    s["convergence"].update(scenes=["fig13"], v20={"fig13": 0.3})
+    c = s["classification"]
+    c["polynomial"]["moreau_steps_per_period"] = 100
+    c["sweeps"]["fig04"]["dt"] = axis(0.1, 1.4)  # fig05 is required in the config but not run
+    c["fourier"].update(order=3, max_iter=2)
+    for m in c["maps"].values():
+        m.update(y2=axis(m["y2"]["from"], m["y2"]["to"]), y3=axis(m["y3"]["from"], m["y3"]["to"]), shards=1)
+    a = s["accumulation"]
+    a["positioning"].update(y2=axis(2.0, 2.4), y3=axis(1.0, 1.4), n_entries=4, max_periods=200, shards=1)
+    a["portraits"]["n_entries"] = 4
+    a["stick_map"]["points"] = 5
+    s["design"]["designs"] = s["design"]["designs"][-1:]
+    s["effects"]["static_friction"].update(y2=axis(2.0, 2.4), y3=axis(1.0, 1.4), n_entries=4, ratios=[1.0, 1.3],
+                                           settings=[[2.3, 1.3]], sweep_entries=4,
+                                           excess={"from": 0.1, "to": 0.3, "count": 2, "scale": "log"})
+    j = s["finite_jerk"]
+    j["ramp_fractions"] = [0.0, 0.05]
+    for plane in j["steady"].values():
+        plane.update(y2=axis(plane["y2"]["from"], plane["y2"]["to"]), y3=axis(plane["y3"]["from"], plane["y3"]["to"]))
+    j["stopping"].update(y2=axis(2.0, 2.4), y3=axis(1.0, 1.4), n_entries=2, steps_per_period=200, max_periods=200)
+    return config
+
+
+@pytest.fixture(scope="session")
+def small_pipeline(repo, tmp_path_factory):
+    """A workflow copy in which the whole pipeline (every stage, every figure) ran on
+    :func:`small_config`: (workdir, result files every stage must have written, snakemake's
+    exit code, its output).  Shared by the result-metadata and report tests, so that a clean
+    checkout (no ``results/``) tests both."""
+    workdir = copy_workflow(repo, tmp_path_factory.mktemp("small_pipeline"))
+    config = small_config(repo)
+    (workdir / "workflow/config/config.yaml").write_text(yaml.safe_dump(config, sort_keys=False))
+    s = config["stages"]
+    targets = [f"results/{stage}/{name}.h5" for stage in ("trajectory", "simulation", "accuracy", "stability",
+                                                          "convergence") for name in s[stage]["scenes"]]
+    targets += [f"results/stability/grid_{g}.h5" for g in s["stability"]["grids"]]
+    targets += [f"results/classification/{n}.h5" for n in ("fig04", "fig06", "verify_maps")]
+    targets += [f"results/accumulation/{n}.h5" for n in ("fig16", "fig17", "fig18")]
+    targets += [f"results/design/{name}.h5" for name in s["design"]["designs"]]
+    targets += ["results/effects/static_friction.h5",
+                "results/finite_jerk/finite_jerk.h5"]
+    rc, out = run_snakemake(workdir, "-c2")
+    return workdir, targets, rc, out
