@@ -11,6 +11,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 import yaml
 
@@ -42,6 +43,24 @@ def update_figure_refs(request) -> bool:
 @pytest.fixture(scope="session")
 def repo() -> Path:
     return REPO
+
+
+def random_three_phase(count, seed, *, accelerations, strokes, complete):
+    """``count`` random feasible three-phase settings from the generator seeded with ``seed``.  Per
+    draw: dt uniform in [0.3, 2], y2'' and y3'' log-uniform in ``accelerations`` (lo, hi), dy the
+    fraction uniform in ``strokes`` (lo, hi) of the largest stroke dt^2 / (8 (1/y2'' + 1/y3''))
+    (q <= 1); then ``complete(rng, dt, dy, y2, y3)`` draws the rest from the same generator
+    and returns the item, or None to discard the draw."""
+    rng = np.random.default_rng(seed)
+    out = []
+    while len(out) < count:
+        dt = rng.uniform(0.3, 2.0)
+        y2, y3 = np.exp(rng.uniform(np.log(accelerations[0]), np.log(accelerations[1]), 2))
+        dy = dt * dt / (8 * (1 / y2 + 1 / y3)) * rng.uniform(*strokes)
+        item = complete(rng, dt, dy, y2, y3)
+        if item is not None:
+            out.append(item)
+    return out
 
 
 SNAKEMAKE = [sys.executable, "-m", "snakemake"]

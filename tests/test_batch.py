@@ -4,6 +4,7 @@ and one trajectory give the same numbers)."""
 
 import numpy as np
 import pytest
+from conftest import random_three_phase
 
 import selfalign as sa
 from selfalign import EventKind, Reason, Record, Scene, Status, StopZone, ThreePhaseProfile, Uniform, simulate
@@ -17,18 +18,13 @@ W, C_MU = 0.05, 2.5
 def random_scenes(count, seed):
     """Feasible three-phase profiles (every case of Table 1), 70 % on a stop zone with random
     position, width and c_mu, random start position, velocity and phase."""
-    rng = np.random.default_rng(seed)
-    out = []
-    while len(out) < count:
-        dt = rng.uniform(0.3, 2.0)
-        y2, y3 = np.exp(rng.uniform(np.log(0.3), np.log(8.0), 2))
-        dy = dt * dt / (8 * (1 / y2 + 1 / y3)) * rng.uniform(0.05, 0.999)
+    def scene(rng, dt, dy, y2, y3):
         zone = StopZone(rng.uniform(-0.2, 0.3), np.exp(rng.uniform(np.log(0.005), np.log(0.5))),
                         rng.uniform(1.05, 6.0)) if rng.random() < 0.7 else Uniform()
         v0 = rng.uniform(-0.5, 0.5) if rng.random() < 0.5 else 0.0
         phase = rng.uniform(0.0, 1.0) if rng.random() < 0.5 else 0.0
-        out.append((ThreePhaseProfile(dt, dy, y2, y3), zone, rng.uniform(-0.3, 0.1), v0, phase))
-    return out
+        return ThreePhaseProfile(dt, dy, y2, y3), zone, rng.uniform(-0.3, 0.1), v0, phase
+    return random_three_phase(count, seed, accelerations=(0.3, 8.0), strokes=(0.05, 0.999), complete=scene)
 
 
 def batch_of(scenes, **horizon):

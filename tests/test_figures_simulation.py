@@ -127,3 +127,18 @@ def test_accuracy_cost_errors_match_reference(repo, tmp_path, update_figure_refs
     np.testing.assert_allclose(np.log10(ylims), np.log10(ref_ylims), rtol=0, atol=YLIM_DECADES)
     diffs = compare_figure_data(data, reference, rtol=RTOL, atol=ATOL)
     assert not diffs, "\n".join(diffs[:20])
+
+
+def test_accuracy_panel_titles_name_each_effect_with_its_size(repo):
+    """A work-precision panel's title says what its scene adds to the paper's model and how much: the
+    finite-jerk scene its y'' ramps as % of the period (accuracy_jerk: 5 %), the friction-law scenes
+    mu_s/mu_k (and v_s for Stribeck); the paper's scenes name none of them."""
+    from selfalign.plots.simulation import _study_title
+
+    def title(name):
+        return _study_title(load_scene(repo / f"workflow/scenes/{name}.yaml")).split("\n")[0]
+    assert "$y''$ ramps 5 % of $\\Delta t$" in title("accuracy_jerk")
+    assert "$\\mu_s/\\mu_k$ = 1.3" in title("accuracy_static")
+    assert "$\\mu_s/\\mu_k$ = 1.3, $v_s$ = 0.01" in title("accuracy_stribeck")
+    for paper in ("accuracy_steady", "accuracy_stop", "accuracy_long"):
+        assert not any(word in title(paper) for word in ("ramps", "jerk", "mu_s", "v_s"))

@@ -6,6 +6,7 @@ from __future__ import annotations
 import mpmath
 import numpy as np
 import pytest
+from conftest import random_three_phase
 
 import selfalign as sa
 from selfalign.io.scene_files import scene_from_dict
@@ -19,19 +20,14 @@ CASE3 = dict(dt=1.05, dy=0.084, y2=2.2, y3=1.8)       # case 3 (general stick-sl
 
 def random_profiles(count, seed):
     """Random feasible finite-jerk profiles: ramp or jerk given, ramps up to ~15 % of the period."""
-    rng = np.random.default_rng(seed)
-    out = []
-    while len(out) < count:
-        dt = rng.uniform(0.3, 2.0)
-        y2, y3 = np.exp(rng.uniform(np.log(1.1), np.log(8.0), 2))
-        dy = dt * dt / (8 * (1 / y2 + 1 / y3)) * rng.uniform(0.05, 0.9)
+    def ramped(rng, dt, dy, y2, y3):
         fraction = rng.uniform(1e-4, 0.15)
         kw = {"ramp": dt * fraction} if rng.random() < 0.5 else {"jerk": (y2 + y3) / (dt * fraction)}
         try:
-            out.append(FiniteJerkProfile(dt, dy, y2, y3, **kw))
+            return FiniteJerkProfile(dt, dy, y2, y3, **kw)
         except ValueError:             # ramps too long for this profile, or infeasible
-            continue
-    return out
+            return None
+    return random_three_phase(count, seed, accelerations=(1.1, 8.0), strokes=(0.05, 0.9), complete=ramped)
 
 
 def test_constraints_hold_for_random_profiles():

@@ -11,6 +11,7 @@ import pytest
 
 import selfalign as sa
 from selfalign.analysis.stick_map import stick_map as closed_form_stick_map
+from selfalign.model.profiles import FiniteJerkProfile
 
 #: solve_ivp forms its Runge-Kutta stages with np.dot (BLAS): .ci/run reruns these under other kernels.
 pytestmark = pytest.mark.blas
@@ -153,3 +154,27 @@ def test_bad_options_raise(options, word):
     """Bad input raises a one-line ValueError naming the option (DESIGN), before any work."""
     with pytest.raises(ValueError, match=word):
         sa.simulate(sa.Scene(PROFILE, periods=1), method="ivp", **options)
+
+
+def test_short_slip_from_rest_on_a_jerk_ramp_in_the_zone_ends():
+    """A slip from rest starts at a root of x' itself.  Started inside the stop zone on the finite-jerk
+    ramp from -y2'' to +y3'' (case 1, ramps 1 % and 5 % of dt) where |y''| exceeds mu_bar(x0) by 3e-8,
+    the forward slip lasts ~2e-10 and ends as y'' turns back into the stick band; solve_ivp's first
+    step overshoots it and found the start root again: the event loop stalled (ERROR) at every rtol.
+    Where |y''| exceeds mu_bar(x0) by rounding only, the slip is shorter than an ulp of t and its end
+    is its start, where the model still says slip.  With the slip's own end located and the mode
+    decided where it changes, the run ends like Moreau (h = dt / 1e6): at rest at the same position
+    (to 1e-9, Moreau's O(h)) for the 1 % ramp, accumulating at x_stick_min (eq. 41) for 5 %."""
+    for fraction, outcome in ((0.01, sa.Status.REST), (0.05, sa.Status.ACCUMULATION)):
+        profile = FiniteJerkProfile(1.05, 0.084, 2.2, 0.9, ramp=fraction * 1.05)
+        tau = profile.breaks[4] + 0.35 * (profile.breaks[5] - profile.breaks[4])
+        for below in (1e-9, 0.0):
+            x0 = ZONE.x_mu + (abs(float(profile.acceleration(tau))) - 1.0) / ZONE.b1 - below
+            scene = sa.Scene(profile, ZONE, x0=x0, phase=tau / profile.dt, until="rest", max_periods=50)
+            moreau = sa.simulate(scene, method="moreau", steps_per_period=10**6)
+            for rtol in (1e-10, 1e-13):
+                run = sa.simulate(scene, method="ivp", rtol=rtol)
+                assert run.status is outcome, run.message
+                assert run.x_end == pytest.approx(moreau.x_end, abs=1e-9)
+            if outcome is sa.Status.ACCUMULATION:
+                assert run.x_end == pytest.approx(ZONE.x_stick_min(profile.max_abs_acceleration), abs=1e-12)

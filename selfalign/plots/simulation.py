@@ -292,7 +292,8 @@ def work_precision(fig, studies: list[dict]):
 
 
 def _study_title(scene: Scene) -> str:
-    """What a work-precision study simulates, in physical terms (two lines)."""
+    """What a work-precision study simulates, in physical terms (two lines): the surface, each
+    effect beyond the paper's model (friction law, finite jerk) with its size, the horizon, the profile."""
     surface = scene.surface.params()
     where = ("uniform friction" if surface["kind"] == "uniform" else
              rf"stop zone at $x_\mu$ = {surface['x_mu']:g}, $c_\mu$ = {surface['c_mu']:g}")
@@ -300,6 +301,11 @@ def _study_title(scene: Scene) -> str:
     if law["kind"] != "coulomb":
         where += rf", {law['kind'].replace('_', '/')} $\mu_s/\mu_k$ = {law['mu_s_over_mu_k']:g}"
         where += rf", $v_s$ = {law['v_s']:g}" if "v_s" in law else ""
+    profile = scene.profile.params()
+    if "ramp" in profile:
+        where += rf", $y''$ ramps {100 * profile['ramp'] / profile['dt']:.3g} % of $\Delta t$"
+    elif "jerk" in profile:
+        where += rf", jerk {profile['jerk']:g}"
     return f"{where}, {scene.horizon_periods} periods from rest\n{_profile_text(scene)}"
 
 
