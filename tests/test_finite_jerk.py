@@ -9,10 +9,8 @@ import pytest
 
 import selfalign as sa
 from selfalign.io.scene_files import scene_from_dict
-from selfalign.model import arcs as sa_arcs
 from selfalign.model.errors import NonPhysicalProfile, SceneError
 from selfalign.model.profiles import FiniteJerkProfile, finite_jerk_times
-from selfalign.solvers.outcomes import ZONE as ZONE_REGION
 from selfalign.solvers.outcomes import EventKind
 
 FIG18 = dict(dt=1.05, dy=0.084, y2=2.2, y3=0.9)       # case 1 (stick-slip, x' >= 0)
@@ -152,64 +150,6 @@ def test_scene_declares_ramp_and_jerk():
 def run(profile, method="exact", periods=10, surface=None, **options):
     scene = sa.Scene(profile, surface=surface or sa.Uniform(), periods=periods)
     return sa.simulate(scene, method=method, **options)
-
-
-ZONE = sa.StopZone(0.05, 0.05, 2.5)    # Fig. 18's zone: x_stick_min = 0.09 for max|y''| = 2.2
-
-
-@pytest.mark.parametrize("params", [FIG18, CASE3], ids=["case1", "case3"])
-def test_exact_on_a_stop_zone_agrees_with_ivp(params):
-    """Cross-check on a stop zone: in the zone the slip arcs are harmonic (forward) or hyperbolic
-    (backward) plus the response to the linear forcing, outside it cubics; solve_ivp (rtol 1e-12)
-    integrates the same equations.  From outside the zone and from its edge, with ramps of 5 % and
-    1 % of dt, the end positions after 30 periods agree to 1e-12 (measured <= 8e-14, solve_ivp's
-    event location); the runs went through the zone's harmonic arcs, in case 3 (reversals) also
-    through its hyperbolic ones."""
-    kinds = set()
-    for tau in (0.05, 0.01):
-        p = FiniteJerkProfile(**params, ramp=tau * params["dt"])
-        for x0 in (-0.01, 0.05):
-            scene = sa.Scene(p, ZONE, x0=x0, periods=30, record=sa.Record(arcs=True))
-            exact = sa.simulate(scene)
-            ivp = sa.simulate(scene, method="ivp", rtol=1e-12, atol=1e-14)
-            assert abs(exact.x_end - ivp.x_end) <= 1e-12, (tau, x0)
-            kinds |= set(exact.arcs["kind"][exact.arcs["region"] == ZONE_REGION].tolist())
-    assert kinds == ({sa_arcs.HARMONIC} if params is FIG18 else {sa_arcs.HARMONIC, sa_arcs.HYPERBOLIC})
-
-
-def test_stop_zone_tends_to_the_paper_accumulation_as_ramp_vanishes():
-    """tau -> 0 on a stop zone (Fig. 18, Sect. 7.3): the finite-jerk runs end, as the paper's
-    three-phase profile does, with ACCUMULATION at x_stick_min (eq. 41) within 1e-12; their stick
-    positions converge to the paper's at first order in tau (errors at tau = 1e-7 dt and 1e-9 dt in
-    a ratio 80-120) and agree to 1e-9 at tau = 1e-9 dt (measured 1e-10)."""
-    def sticks(profile):
-        traj = sa.simulate(sa.Scene(profile, ZONE, until="rest", record=sa.Record(events=True)))
-        assert traj.status is sa.Status.ACCUMULATION, traj.message
-        assert abs(traj.x_end - ZONE.x_stick_min(FIG18["y2"])) <= 1e-12
-        return traj.events["x"][traj.events["kind"] == int(EventKind.STICK)]
-
-    paper = sticks(sa.ThreePhaseProfile(**FIG18))
-
-    def error(tau):
-        s = sticks(FiniteJerkProfile(**FIG18, ramp=tau * FIG18["dt"]))
-        assert s.size == paper.size
-        return np.max(np.abs(s - paper))
-    e7, e9 = error(1e-7), error(1e-9)
-    assert 80 < e7 / e9 < 120
-    assert e9 <= 1e-9
-
-
-def test_stop_zone_dense_series_follows_the_arcs():
-    """The dense series of a recorded stop-zone run is evaluated from its arc records (harmonic,
-    hyperbolic and quadratic arcs with the forcing of the piece's jerk): at every period boundary
-    it equals the end state of an unrecorded run of that many periods to 1e-14."""
-    p = FiniteJerkProfile(**CASE3, ramp=0.05 * CASE3["dt"])
-    scene = sa.Scene(p, ZONE, x0=-0.01, periods=8, record=sa.Record(series=("x", "v"), samples_per_period=8))
-    traj = sa.simulate(scene)
-    for k in range(1, 8):
-        at = np.flatnonzero(np.isclose(traj.series["t"], k * p.dt, rtol=0.0, atol=1e-13))[-1]
-        end = sa.simulate(sa.Scene(p, ZONE, x0=-0.01, periods=k))
-        assert abs(traj.series["x"][at] - end.x_end) <= 1e-14 and abs(traj.series["v"][at] - end.v_end) <= 1e-14
 
 
 def test_exact_tends_to_the_paper_result_as_ramp_vanishes():
