@@ -797,18 +797,25 @@ def _jerk_event_function(velocity, kind, om, sigma, v0, acc0, jerk, gap, s):
 @jit
 def _jerk_event_time(velocity, kind, om, sigma, v0, acc0, jerk, gap, lo, hi, xtol, rtol):
     """The event of :func:`_jerk_event_function` in [lo, hi] (g(lo) > 0 >= g(hi)) by Newton's
-    method kept inside the bracket (bisection where a step would leave it), to a last step
-    <= xtol + rtol s."""
+    method kept inside the bracket, to a last step <= xtol + rtol s.  A step that would leave
+    the bracket, or a second step after which the bracket has not halved, is a bisection, so
+    the bracket halves at least every third evaluation: from <= dt to xtol = 2 eps dt takes
+    <= 3 * 52 < BRENT_MAX_ITER of them (the cap is never reached).  A NaN g (overflow) bisects
+    too; the NaN state then ends the run as NONFINITE."""
     s = 0.5 * (lo + hi)
-    for _ in range(BRENT_MAX_ITER):
+    width = hi - lo
+    for it in range(BRENT_MAX_ITER):
         g, dg = _jerk_event_function(velocity, kind, om, sigma, v0, acc0, jerk, gap, s)
         if g > 0.0:
             lo = s
         else:
             hi = s
         nxt = s - g / dg if dg != 0.0 else _NAN
-        if not lo < nxt < hi:
+        slow = it % 2 == 1 and hi - lo > 0.5 * width
+        if slow or not lo < nxt < hi:
             nxt = 0.5 * (lo + hi)
+        if it % 2 == 1:
+            width = hi - lo
         if abs(nxt - s) <= xtol + rtol * abs(s) or hi - lo <= xtol + rtol * hi:
             return min(max(nxt, lo), hi)
         s = nxt
