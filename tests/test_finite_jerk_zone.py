@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from test_finite_jerk import CASE3, FIG18, random_profiles
 
 import selfalign as sa
 from selfalign.model import arcs as sa_arcs
@@ -15,8 +16,6 @@ from selfalign.solvers.driver import simulate_batch
 from selfalign.solvers.outcomes import ZONE as ZONE_REGION
 from selfalign.solvers.outcomes import EventKind
 
-FIG18 = dict(dt=1.05, dy=0.084, y2=2.2, y3=0.9)       # case 1 (stick-slip, x' >= 0)
-CASE3 = dict(dt=1.05, dy=0.084, y2=2.2, y3=1.8)       # case 3 (general stick-slip: reversals)
 ZONE = sa.StopZone(0.05, 0.05, 2.5)    # Fig. 18's zone: x_stick_min = 0.09 for max|y''| = 2.2
 
 
@@ -96,18 +95,11 @@ def test_stop_zone_tends_to_the_paper_accumulation_as_ramp_vanishes():
 
 
 def random_zone_scenes(count, seed):
-    """Random feasible finite-jerk profiles (ramps 0.1-15 % of dt) on random stop zones, random
-    start position, velocity and phase."""
+    """test_finite_jerk's random feasible finite-jerk profiles (ramps up to ~15 % of dt) on random
+    stop zones, with random start position, velocity and phase."""
     rng = np.random.default_rng(seed)
     out = []
-    while len(out) < count:
-        dt = rng.uniform(0.3, 2.0)
-        y2, y3 = np.exp(rng.uniform(np.log(1.1), np.log(8.0), 2))
-        dy = dt * dt / (8 * (1 / y2 + 1 / y3)) * rng.uniform(0.05, 0.9)
-        try:
-            p = FiniteJerkProfile(dt, dy, y2, y3, ramp=dt * rng.uniform(1e-3, 0.15))
-        except ValueError:             # ramps too long for this profile, or infeasible
-            continue
+    for p in random_profiles(count, seed):
         zone = sa.StopZone(rng.uniform(-0.2, 0.3), np.exp(rng.uniform(np.log(0.005), np.log(0.5))),
                            rng.uniform(1.05, 6.0))
         v0 = rng.uniform(-0.5, 0.5) if rng.random() < 0.5 else 0.0

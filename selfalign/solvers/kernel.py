@@ -275,6 +275,13 @@ def _crossed(s, bnd, cross, kind, om, xi0, v0, acc0, xi1, v1, n, tau, dur):
 
 
 @jit
+def _load(s):
+    """(x, v, mode, period, events, path, xi_max) of the member record at a period start, and
+    zeroed running totals of the period (dxp, lo, hi, regions, stalled): :func:`_save`'s inverse."""
+    return s.xi, s.v, s.mode, s.n, s.events, s.path, s.xi_max, 0.0, 0.0, 0.0, 0, 0
+
+
+@jit
 def _save(s, events, path, xi_max, dxp, lo, hi, regions):
     """Write a period's running totals back to the member record."""
     s.events, s.path, s.xi_max = events, path, xi_max
@@ -361,14 +368,7 @@ def _period_piecewise(s, row, until, max_events, bnd, cross, record, arcs, event
     zone, w, om, b1 = s.zone, s.w, s.omega, s.b1
     r_static = s.static_ratio               # stick while |y''| <= r mu_bar; slip arcs use mu_bar
     lowest = _next_boundary(bnd, cross)
-    xi, v, mode, n = s.xi, s.v, s.mode, s.n
-    count = s.events
-    path, xi_max = s.path, s.xi_max
-    dxp = 0.0
-    lo = 0.0
-    hi = 0.0
-    regions = 0
-    stalled = 0
+    xi, v, mode, n, count, path, xi_max, dxp, lo, hi, regions, stalled = _load(s)
     fresh = s.fresh
     s.fresh = False
     for j in range(nseg):
@@ -886,14 +886,7 @@ def _period_jerk_zone(s, row, until, max_events, bnd, cross, record, arcs, event
     w = s.w
     r_static = s.static_ratio
     lowest = _next_boundary(bnd, cross)
-    xi, v, mode, n = s.xi, s.v, s.mode, s.n
-    count = s.events
-    path, xi_max = s.path, s.xi_max
-    dxp = 0.0
-    lo = 0.0
-    hi = 0.0
-    regions = 0
-    stalled = 0
+    xi, v, mode, n, count, path, xi_max, dxp, lo, hi, regions, stalled = _load(s)
     s.fresh = False
     for seg_j in range(m + 1 if tail else m):
         p, ts, seg, dn, _ = _segment(row, m, i0, tau0, tail, seg_j)
