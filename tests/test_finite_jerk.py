@@ -125,8 +125,7 @@ def test_bad_input_is_refused_with_one_line():
 def test_scene_declares_ramp_and_jerk():
     """Scene schema: profile.ramp (>= 0) or profile.jerk (> 0) on a three_phase profile, not both;
     ramp 0 or absent loads the paper's ThreePhaseProfile (today's code path); the exact solver
-    refuses a finite-jerk profile on a stop zone when the scene is loaded, Moreau and ivp take it;
-    the scene survives to_dict."""
+    takes a finite-jerk profile on a stop zone, as Moreau and ivp do; the scene survives to_dict."""
     base = {"profile": {"kind": "three_phase", **FIG18}, "horizon": {"periods": 3}}
     assert type(scene_from_dict(base).profile) is sa.ThreePhaseProfile
     zero = scene_from_dict({**base, "profile": {**base["profile"], "ramp": 0}})
@@ -140,9 +139,7 @@ def test_scene_declares_ramp_and_jerk():
         scene_from_dict({**base, "profile": {**base["profile"], "ramp": -0.01}})
     zone = {**base, "profile": {**base["profile"], "jerk": 200.0},
             "surface": {"kind": "stop_zone", "x_mu": 0.5, "c_mu": 2.5}, "body": {"width": 0.05}}
-    with pytest.raises(SceneError, match="cannot simulate a finite-jerk profile on a stop zone"):
-        scene_from_dict(zone)
-    for method in ("moreau", "ivp"):
+    for method in ("exact", "moreau", "ivp"):
         assert scene_from_dict({**zone, "solver": {"method": method}}).method == method
 
 

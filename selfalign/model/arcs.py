@@ -94,6 +94,46 @@ def step(kind: int, omega: float, v0: float, acc0: float, s: float):
     return v0 * s1 + acc0 * s2, v0 * c + acc0 * s1
 
 
+#: Terms of the series of S3 (below) for |w s| <= 1: the first one left out is < 1e-19 S3.
+_S3_TERMS = 10
+
+
+@formula
+def jerk_basis(kind: int, omega: float, s: float) -> float:
+    """S3(s), the integral of S2 from 0 to s: the response of an arc to a forcing ``jerk s``.
+
+    QUADRATIC s^3 / 6; HARMONIC (w s - sin w s) / w^3; HYPERBOLIC (sinh w s - w s) / w^3.
+    For |w s| <= 1 the difference would cancel, so it is summed as its Taylor series
+    s^3 sum_n (-+ (w s)^2)^n / (2n + 3)! instead.
+    """
+    if kind == QUADRATIC or omega * s == 0.0:
+        return s * s * s / 6.0
+    x = omega * s
+    if abs(x) <= 1.0:
+        sign = -1.0 if kind == HARMONIC else 1.0
+        term = 1.0 / 6.0
+        total = term
+        for n in range(1, _S3_TERMS):
+            term *= sign * x * x / ((2 * n + 2) * (2 * n + 3))
+            total += term
+        return s * s * s * total
+    if kind == HARMONIC:
+        return (x - math.sin(x)) / (omega * omega * omega)
+    return (math.sinh(x) - x) / (omega * omega * omega)
+
+
+@formula
+def jerk_step(kind: int, omega: float, v0: float, acc0: float, jerk: float, s: float):
+    """Displacement, velocity and acceleration after time ``s`` of an arc of
+    x'' = acc0 + kappa (x - x0) + jerk s (a table acceleration linear in time, y'' = a - jerk s):
+    x - x0 = v0 S1 + acc0 S2 + jerk S3, v = v0 C + acc0 S1 + jerk S2 (the forcing enters the
+    same linear equation, so its response adds to :func:`step`'s)."""
+    c, s1, s2 = basis(kind, omega, s)
+    dx = v0 * s1 + acc0 * s2 + jerk * jerk_basis(kind, omega, s)
+    kappa = -omega * omega if kind == HARMONIC else (omega * omega if kind == HYPERBOLIC else 0.0)
+    return dx, v0 * c + acc0 * s1 + jerk * s2, acc0 + kappa * dx + jerk * s
+
+
 @formula
 def acceleration(kind: int, b1: float, acc0: float, dx: float) -> float:
     """Relative acceleration x'' after a displacement ``dx`` from the arc start."""

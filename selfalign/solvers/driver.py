@@ -443,9 +443,8 @@ def simulate_batch(profiles, x0, v0=0.0, phase=0.0, *, profile_index=None, surfa
     members["xi"] = x0 - origin
     members["v"] = _member_array("v0", v0, size)
     members["tau0"] = phase * dt
-    if method == "exact" and table.code == R.EXACT_SMOOTH and np.any(members["zone"]):
-        raise ValueError("method 'exact' cannot simulate a Fourier profile on a stop zone (nor a finite-jerk "
-                         "profile); use 'moreau'")
+    if method == "exact" and table.code == R.EXACT_SMOOTH and np.any(members["zone"] & (table.rows[index, R.DATA] > 0)):
+        raise ValueError("method 'exact' cannot simulate a Fourier profile on a stop zone; use 'moreau'")
     boundaries = np.zeros((size, 0))
     if x_mu is not None or levels is not None:
         lev = np.zeros((size, 0)) if levels is None else np.asarray(levels, dtype=float)

@@ -275,6 +275,13 @@ def _crossed(s, bnd, cross, kind, om, xi0, v0, acc0, xi1, v1, n, tau, dur):
 
 
 @jit
+def _load(s):
+    """(x, v, mode, period, events, path, xi_max) of the member record at a period start, and
+    zeroed running totals of the period (dxp, lo, hi, regions, stalled): :func:`_save`'s inverse."""
+    return s.xi, s.v, s.mode, s.n, s.events, s.path, s.xi_max, 0.0, 0.0, 0.0, 0, 0
+
+
+@jit
 def _save(s, events, path, xi_max, dxp, lo, hi, regions):
     """Write a period's running totals back to the member record."""
     s.events, s.path, s.xi_max = events, path, xi_max
@@ -294,12 +301,32 @@ def _stop(s, code, xi, v, mode, n, tau, dt):
 
 @jit
 def _pw_piece(row, tau):
-    """Index of the piece holding phase ``tau`` (right-continuous)."""
-    m = int(row[R.DATA])
+    """Index of the piece holding phase ``tau`` (right-continuous) of a piecewise-constant or
+    piecewise-linear-y'' row (m or -m pieces in its first data column)."""
+    m = abs(int(row[R.DATA]))
     i = 0
     while i + 1 < m and row[R.DATA + 2 + i] <= tau:
         i += 1
     return i
+
+
+@inlined
+def _segment(row, m, i0, tau0, tail, j):
+    """(piece, start phase, length, period offset, starts at a break) of segment j of the period
+    from tau0 (``tail``: tau0 is inside piece i0): the rest of piece i0, the following pieces,
+    then (next period) the pieces before i0 and the head of piece i0.  The breaks of a
+    profile row with m pieces start at column DATA + 1 (piecewise-constant and -linear)."""
+    b0 = R.DATA + 1
+    if j == 0:
+        return i0, tau0, row[b0 + i0 + 1] - tau0, 0, not tail
+    if j < m:
+        p = i0 + j
+        dn = 0
+        if p >= m:
+            p -= m
+            dn = 1
+        return p, row[b0 + p], row[b0 + p + 1] - row[b0 + p], dn, True
+    return i0, row[b0 + i0], tau0 - row[b0 + i0], 1, True
 
 
 @jit
@@ -341,30 +368,11 @@ def _period_piecewise(s, row, until, max_events, bnd, cross, record, arcs, event
     zone, w, om, b1 = s.zone, s.w, s.omega, s.b1
     r_static = s.static_ratio               # stick while |y''| <= r mu_bar; slip arcs use mu_bar
     lowest = _next_boundary(bnd, cross)
-    xi, v, mode, n = s.xi, s.v, s.mode, s.n
-    count = s.events
-    path, xi_max = s.path, s.xi_max
-    dxp = 0.0
-    lo = 0.0
-    hi = 0.0
-    regions = 0
-    stalled = 0
+    xi, v, mode, n, count, path, xi_max, dxp, lo, hi, regions, stalled = _load(s)
     fresh = s.fresh
     s.fresh = False
     for j in range(nseg):
-        # Segment j of the period from tau0: the rest of piece i0, the following pieces,
-        # then (next period) the pieces before i0 and the head of piece i0.
-        if j == 0:
-            p, ts, seg, dn, at_break = i0, tau0, row[b0 + i0 + 1] - tau0, 0, not tail
-        elif j < m:
-            p = i0 + j
-            dn = 0
-            if p >= m:
-                p -= m
-                dn = 1
-            ts, seg, at_break = row[b0 + p], row[b0 + p + 1] - row[b0 + p], True
-        else:
-            p, ts, seg, dn, at_break = i0, row[b0 + i0], tau0 - row[b0 + i0], 1, True
+        p, ts, seg, dn, at_break = _segment(row, m, i0, tau0, tail, j)
         a = row[a0 + p]
         nn = n + dn
         s0 = 0.0
@@ -768,6 +776,217 @@ def _period_smooth(s, row, until, max_events, bnd, cross, record, arcs, events, 
             return _stop(s, STOP_BUDGET, xi, v, mode, n, tau0 + s0, dt)
     s.xi, s.v, s.mode, s.n = xi, v, mode, n + 1
     s.dxp, s.lo, s.hi, s.regions = dxp, lo, hi, 1
+    return DONE
+
+
+# ----------------------------------------------------------------------------------------
+# Exact stepper, piecewise-linear y'' (finite jerk) on a stop zone
+# ----------------------------------------------------------------------------------------
+
+@jit
+def _jerk_event_function(velocity, kind, om, sigma, v0, acc0, jerk, gap, s):
+    """(g, g') of an arc of :func:`A.jerk_step` after time s, positive before its event:
+    ``velocity``: g = sigma x' (v = 0 ahead); else g = sigma (gap - (x - x0)) (the boundary
+    at distance ``gap`` ahead)."""
+    dx, v, acc = A.jerk_step(kind, om, v0, acc0, jerk, s)
+    if velocity:
+        return sigma * v, sigma * acc
+    return sigma * (gap - dx), -sigma * v
+
+
+@jit
+def _jerk_event_time(velocity, kind, om, sigma, v0, acc0, jerk, gap, lo, hi, xtol, rtol):
+    """The event of :func:`_jerk_event_function` in [lo, hi] (g(lo) > 0 >= g(hi)) by Newton's
+    method kept inside the bracket, to a last step <= xtol + rtol s.  A step that would leave
+    the bracket, or a second step after which the bracket has not halved, is a bisection, so
+    the bracket halves at least every third evaluation: from <= dt to xtol = 2 eps dt takes
+    <= 3 * 52 < BRENT_MAX_ITER of them (the cap is never reached).  A NaN g (overflow) bisects
+    too; the NaN state then ends the run as NONFINITE."""
+    s = 0.5 * (lo + hi)
+    width = hi - lo
+    for it in range(BRENT_MAX_ITER):
+        g, dg = _jerk_event_function(velocity, kind, om, sigma, v0, acc0, jerk, gap, s)
+        if g > 0.0:
+            lo = s
+        else:
+            hi = s
+        nxt = s - g / dg if dg != 0.0 else _NAN
+        slow = it % 2 == 1 and hi - lo > 0.5 * width
+        if slow or not lo < nxt < hi:
+            nxt = 0.5 * (lo + hi)
+        if it % 2 == 1:
+            width = hi - lo
+        if abs(nxt - s) <= xtol + rtol * abs(s) or hi - lo <= xtol + rtol * hi:
+            return min(max(nxt, lo), hi)
+        s = nxt
+    return s
+
+
+@jit
+def _jerk_arc_end(kind, om, sigma, v, acc0, jerk, gap, bounded, rem, xtol, rtol):
+    """(duration, event) of a slip arc of :func:`A.jerk_step` within time ``rem``: event 1
+    v = 0, 2 the boundary at distance ``gap`` (if ``bounded``), 0 none.  Both event
+    functions are bracketed on GRID_PER_PIECE points plus GRID_PER_PIECE per harmonic period
+    2 pi / om (within one interval at most a graze goes unseen), then refined; v = 0 wins
+    a tie (tie rule 2).  A slip from v = 0 is bracketed from a point where it has left 0
+    (found by halving the first interval); if there is none, v = 0 ends it at once."""
+    if not rem > 0.0:                       # at the segment's end: the next segment decides
+        return 0.0, 0
+    points = GRID_PER_PIECE + int(GRID_PER_PIECE * om * rem / (2.0 * math.pi))
+    prev = 0.0
+    for k in range(1, points + 1):
+        sk = rem * k / points
+        gv = _jerk_event_function(True, kind, om, sigma, v, acc0, jerk, gap, sk)[0]
+        gb = _jerk_event_function(False, kind, om, sigma, v, acc0, jerk, gap, sk)[0] if bounded else 1.0
+        if gv > 0.0 and gb > 0.0:
+            prev = sk
+            continue
+        s_v = _INF
+        s_b = _INF
+        if not gv > 0.0:
+            left = prev
+            if left == 0.0 and v == 0.0:
+                left = sk
+                for _ in range(60):
+                    left *= 0.5
+                    if _jerk_event_function(True, kind, om, sigma, v, acc0, jerk, gap, left)[0] > 0.0:
+                        break
+                if not _jerk_event_function(True, kind, om, sigma, v, acc0, jerk, gap, left)[0] > 0.0:
+                    return 0.0, 1
+            s_v = _jerk_event_time(True, kind, om, sigma, v, acc0, jerk, gap, left, sk, xtol, rtol)
+        if not gb > 0.0:
+            s_b = _jerk_event_time(False, kind, om, sigma, v, acc0, jerk, gap, prev, sk, xtol, rtol)
+        if s_v <= s_b:
+            return s_v, 1
+        return s_b, 2
+    return rem, 0
+
+
+@jit
+def _period_jerk_zone(s, row, until, max_events, bnd, cross, record, arcs, events):
+    """Advance member ``s`` one period on a piecewise-linear-y'' profile on a stop zone.
+
+    Within a piece y'' = a + j t, so every slip arc is an arc of :mod:`selfalign.model.arcs`
+    (quadratic outside the zone, harmonic or hyperbolic in it) plus the response to the
+    forcing -j t (:func:`A.jerk_step`), and a stuck mass slips when the linear |y''| exceeds
+    r mu_bar (closed form).  The events of a slip (v = 0, a zone boundary) are bracketed and
+    refined by :func:`_jerk_arc_end` to |error| <= 2 eps dt + 4 eps t.  Piece breaks are no
+    events (y'' is continuous at a finite-jerk profile's breaks; a jump is decided at once).
+    Slip arcs are recorded with their kind and omega and a NaN table acceleration."""
+    dt = row[R.DT]
+    m = -int(row[R.DATA])
+    b0 = R.DATA + 1
+    a0 = b0 + m + 1
+    j0 = b0 + 2 * m + 1
+    tau0 = s.tau0
+    i0 = _pw_piece(row, tau0)
+    tail = tau0 > row[b0 + i0]
+    xtol = 2.0 * _EPS * dt
+    rtol = 4.0 * _EPS
+    w = s.w
+    r_static = s.static_ratio
+    lowest = _next_boundary(bnd, cross)
+    xi, v, mode, n, count, path, xi_max, dxp, lo, hi, regions, stalled = _load(s)
+    s.fresh = False
+    for seg_j in range(m + 1 if tail else m):
+        p, ts, seg, dn, _ = _segment(row, m, i0, tau0, tail, seg_j)
+        jerk = row[j0 + p]
+        a_seg = row[a0 + p] + jerk * (ts - row[b0 + p])
+        nn = n + dn
+        s0 = 0.0
+        a_slip = _NAN                           # y'' at a slip start from stick: exactly +-r mu_bar
+        while True:
+            a = a_seg + jerk * s0 if math.isnan(a_slip) else a_slip
+            a_slip = _NAN
+            rem = seg - s0
+            if mode == 0:
+                mu = _mu(s, xi)
+                limit = r_static * mu
+                a_end = a_seg + jerk * seg
+                root, new = _INF, 0
+                if abs(a) > limit:
+                    root, new = s0, F.decide_mode(a, limit)
+                elif a_end > limit:
+                    root, new = s0 + (limit - a) / jerk, -1
+                elif a_end < -limit:
+                    root, new = s0 + (-limit - a) / jerk, 1
+                if not root < seg:              # stuck to the segment's end (the next one decides)
+                    r = _region(s, xi, 0)
+                    regions |= 1 << r
+                    if record:
+                        _record_arc(arcs, s, dt, _STICK_ARC, nn, ts + s0, rem, xi, 0.0, 0.0, _NAN, 0.0, 0, r)
+                    break
+                r = _region(s, xi, 0)
+                regions |= 1 << r
+                if root > s0:
+                    a_slip = -new * limit
+                if record:
+                    _record_arc(arcs, s, dt, _STICK_ARC, nn, ts + s0, root - s0, xi, 0.0, 0.0, _NAN, 0.0, 0, r)
+                    a_r = a if root == s0 else -new * limit
+                    _record_event(events, s, dt, _SLIP, nn, ts + root, xi, 0.0, 0, new, 0.0,
+                                  _arc_params(s, xi, new, a_r)[3])
+                count += 1
+                mode, v, s0 = new, 0.0, root
+            else:
+                if v * mode < 0.0:              # tie rule 4
+                    v = 0.0
+                sigma = float(mode)
+                kind, r, mu, acc0 = _arc_params(s, xi, mode, a)
+                regions |= 1 << r
+                om_arc = 0.0 if kind == _QUADRATIC else s.omega
+                if kind == _QUADRATIC:
+                    bounded = s.zone and (r == LOW) == (mode > 0)
+                    xb = 0.0 if r == LOW else w
+                else:
+                    bounded = True
+                    xb = w if mode > 0 else 0.0
+                dur, ev = _jerk_arc_end(kind, om_arc, sigma, v, acc0, -jerk, xb - xi, bounded, rem, xtol, rtol)
+                dx, v1, acc1 = A.jerk_step(kind, om_arc, v, acc0, -jerk, dur)
+                if record:
+                    _record_arc(arcs, s, dt, kind, nn, ts + s0, dur, xi, v, acc0, _NAN, om_arc, mode, r)
+                xi_new = xb if ev == 2 else xi + dx
+                path += abs(xi_new - xi)
+                xi_max = max(xi_max, xi_new)
+                if xi_new >= lowest:
+                    lowest = _crossed(s, bnd, cross, _SMOOTH, 0.0, xi, v, 0.0, xi_new, 0.0 if ev == 1 else v1, nn,
+                                      ts + s0, dur)
+                dxp += xi_new - xi
+                hi = max(hi, dxp)
+                lo = min(lo, dxp)
+                xi = xi_new
+                if ev == 0:
+                    v = v1
+                    break
+                s0 += dur
+                count += 1
+                stalled = stalled + 1 if dur == 0.0 else 0
+                if stalled > STALL_EVENTS:
+                    _save(s, count, path, xi_max, dxp, lo, hi, regions)
+                    return _stop(s, STOP_STALL, xi, v, mode, nn, ts + s0, dt)
+                a_now = a_seg + jerk * s0
+                if ev == 2:                     # zone crossing: on the boundary exactly
+                    v = v1
+                    if record:
+                        _record_event(events, s, dt, _ZONE, nn, ts + s0, xi, v, mode, mode, acc1,
+                                      _arc_params(s, xi, mode, a_now)[3])
+                else:                           # v = 0: stick or reverse (tie rule 1)
+                    v = 0.0
+                    mu = _mu(s, xi)
+                    new = F.decide_mode(a_now, r_static * mu)
+                    if record:
+                        _record_event(events, s, dt, _STICK if new == 0 else _REVERSAL, nn, ts + s0, xi, 0.0,
+                                      mode, new, acc1, _arc_params(s, xi, new, a_now)[3])
+                    mode = new
+                    if new == 0:
+                        code = _on_stick(s, xi, mu, nn, ts + s0, until, _holds(s, mu))
+                        if code != DONE:
+                            _save(s, count, path, xi_max, dxp, lo, hi, regions)
+                            return _stop(s, code, xi, 0.0, 0, nn, ts + s0, dt)
+            if count >= max_events:
+                _save(s, count, path, xi_max, dxp, lo, hi, regions)
+                return _stop(s, STOP_BUDGET, xi, v, mode, nn, ts + s0, dt)
+    s.xi, s.v, s.mode, s.n = xi, v, mode, n + 1
+    _save(s, count, path, xi_max, dxp, lo, hi, regions)
     return DONE
 
 
@@ -1191,6 +1410,8 @@ def drive(s, method, row, until, total, max_events, max_cycle, acc_tol, bnd, cro
         v0, mode0, xi0, path0 = s.v, s.mode, s.xi, s.path
         if method == R.EXACT_PIECEWISE:
             code = _period_piecewise(s, row, until, max_events, bnd, cross, record, arcs, events)
+        elif method == R.EXACT_SMOOTH and s.zone:
+            code = _period_jerk_zone(s, row, until, max_events, bnd, cross, record, arcs, events)
         elif method == R.EXACT_SMOOTH:
             code = _period_smooth(s, row, until, max_events, bnd, cross, record, arcs, events,
                                                 grid, g_yd, g_ydd)
@@ -1347,6 +1568,10 @@ def sample_arcs(arcs, row, tau0, spp):
                     y1, yd1, _ = _table_motion(row, arc.tau + sr)
                     dx = arc.v * sr - 0.5 * sig * sr * sr - (y1 - y0 - yd0 * sr)
                     vv = arc.v - sig * sr - (yd1 - yd0)
+                elif arc.kind != _STICK_ARC and row[R.DATA] < 0.0:      # a slip of _period_jerk_zone
+                    m = -int(row[R.DATA])
+                    jerk = row[R.DATA + 2 + 2 * m + _pw_piece(row, arc.tau)]
+                    dx, vv, _ = A.jerk_step(arc.kind, arc.omega, arc.v, arc.acc, -jerk, sr)
                 else:
                     dx, vv = A.step(arc.kind, arc.omega, arc.v, arc.acc, sr)
                 period[k] = pn

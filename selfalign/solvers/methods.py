@@ -85,10 +85,9 @@ def friction_refused(method: str, friction, options: dict) -> str | None:
 
 def _exact_refuses(scene):
     smooth = (FourierProfile, PiecewiseLinearProfile)
-    if isinstance(scene.profile, smooth) and isinstance(scene.surface, StopZone):
-        name = "Fourier" if isinstance(scene.profile, FourierProfile) else "finite-jerk"
-        return (f"method 'exact' cannot simulate a {name} profile on a stop zone (its smooth stepper has no arcs "
-                f"with position-dependent friction and non-constant y''); use method 'moreau' or 'ivp'")
+    if isinstance(scene.profile, FourierProfile) and isinstance(scene.surface, StopZone):
+        return ("method 'exact' cannot simulate a Fourier profile on a stop zone (it has closed-form arcs with "
+                "position-dependent friction only for a piecewise-linear y''); use method 'moreau' or 'ivp'")
     if not (getattr(scene.profile, "piecewise_constant", False) or isinstance(scene.profile, smooth)):
         return (f"method 'exact' needs a piecewise-constant, piecewise-linear-y'' or Fourier profile, got "
                 f"{type(scene.profile).__name__}")
