@@ -4,7 +4,7 @@ and one trajectory give the same numbers)."""
 
 import numpy as np
 import pytest
-from conftest import random_three_phase
+from conftest import assert_batch_member_is, random_three_phase
 
 import selfalign as sa
 from selfalign import EventKind, Reason, Record, Scene, Status, StopZone, ThreePhaseProfile, Uniform, simulate
@@ -53,10 +53,7 @@ def test_batch_and_scalar_are_bit_identical_on_random_scenes(horizon):
     for i, (p, zone, x0, v0, phase) in enumerate(scenes):
         traj = simulate(Scene(p, zone, x0=x0, v0=v0, phase=phase, **kw))
         statuses.add(traj.status)
-        assert res.statuses()[i] is traj.status and res.reason[i] == traj.reason, i
-        assert (res.period_end[i], res.tau_end[i], res.events[i]) == (traj.period_end, traj.tau_end,
-                                                                     traj.stats["events"]), i
-        assert (res.x_end[i], res.v_end[i]) == (traj.x_end, traj.v_end), i
+        assert_batch_member_is(res, i, traj)
     if horizon["until"] == "rest":
         assert statuses >= {Status.HORIZON, Status.REST, Status.ACCUMULATION, Status.NEVER_STOPS}
 

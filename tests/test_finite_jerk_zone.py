@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from conftest import assert_batch_member_is
 from test_finite_jerk import CASE3, FIG18, random_profiles
 
 import selfalign as sa
@@ -123,10 +124,7 @@ def test_batch_and_scalar_are_bit_identical_on_random_zone_scenes(horizon):
     for i, (p, zone, x, v, ph) in enumerate(scenes):
         traj = sa.simulate(sa.Scene(p, zone, x0=x, v0=v, phase=ph, **kw))
         statuses.add(traj.status)
-        assert res.statuses()[i] is traj.status and res.reason[i] == traj.reason, i
-        assert (res.period_end[i], res.tau_end[i], res.events[i]) == (traj.period_end, traj.tau_end,
-                                                                     traj.stats["events"]), i
-        assert (res.x_end[i], res.v_end[i]) == (traj.x_end, traj.v_end), i
+        assert_batch_member_is(res, i, traj)
     if horizon["until"] == "rest":
         assert statuses == {sa.Status.HORIZON, sa.Status.REST, sa.Status.ACCUMULATION, sa.Status.NEVER_STOPS}
 
