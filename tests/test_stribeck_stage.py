@@ -81,3 +81,14 @@ def test_friction_needs_moreau_steady_state():
     """simulated_steady_state refuses a friction law with the exact method before simulating."""
     with pytest.raises(ValueError, match="method 'moreau' only"):
         simulated_steady_state([ThreePhaseProfile(1.0, 0.084, 2.3, 1.3)], "exact", friction=friction_law(RATIO))
+
+
+@pytest.mark.parametrize("fractions, ratio, delta, match", [([0.0, 1.0], RATIO, DELTA, "v_s_fractions"),
+                                                           ([], RATIO, DELTA, "v_s_fractions"),
+                                                           ([0.1], 0.9, DELTA, "mu_s_over_mu_k"),
+                                                           ([0.1], RATIO, 0.0, "delta")])
+def test_bad_study_input_is_refused_up_front(fractions, ratio, delta, match):
+    """A v_s fraction that is not > 0, an empty list, r < 1 or delta <= 0 stops the study with an
+    error naming the parameter, before any profile is built (the settings here are invalid too)."""
+    with pytest.raises(ValueError, match=match):
+        stribeck_content(fractions, ratio=ratio, delta=delta, steps_per_period=STEPS, steady={}, entries={})

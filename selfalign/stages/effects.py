@@ -120,6 +120,9 @@ def stribeck_content(v_s_fractions, *, ratio: float, delta: float, steps_per_per
     :func:`stribeck_steady` (dt, dy, settings); ``entries``: those of
     :func:`stribeck_stopping` (dt, dy, w, c_mu, settings, n_entries, max_periods)."""
     fractions = np.asarray(v_s_fractions, dtype=float)
+    if fractions.ndim != 1 or fractions.size == 0 or not np.all(np.isfinite(fractions) & (fractions > 0.0)):
+        raise ValueError(f"v_s_fractions must be a non-empty 1-D list of finite values > 0, got {v_s_fractions!r}")
+    stribeck_law(ratio, 1.0, delta)     # refuses r < 1 or delta <= 0 before any simulation
     law = {"ratio": float(ratio), "delta": float(delta), "steps_per_period": int(steps_per_period)}
     groups = {"stribeck_steady": stribeck_steady(fractions, **steady, **law),
               "stribeck_stopping": stribeck_stopping(fractions, **entries, **law)}
