@@ -253,7 +253,7 @@ QUANTITIES: dict[str, Quantity] = {
     "v_s_fraction": Quantity("number", "Stribeck velocity v_s in units of each profile's velocity swing"),
     "stribeck_*/y2": Quantity("acceleration", "y2'' of each setting"),
     "stribeck_*/y3": Quantity("acceleration", "y3'' of each setting"),
-    "stribeck_steady/velocity_swing": Quantity("velocity", "max y' - min y' of each setting (the unit of v_s)"),
+    "stribeck_*/velocity_swing": Quantity("velocity", "max y' - min y' of each setting (the unit of v_s)"),
     "stribeck_steady/vbar": Quantity("velocity", "[setting, v_s]: steady average velocity vbar (eq. 10), Moreau"),
     "stribeck_steady/vbar_static_kinetic": Quantity("velocity", "vbar under static/kinetic friction (the limit "
                                                                 "v_s -> 0), exact solver"),

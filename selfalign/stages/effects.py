@@ -23,6 +23,11 @@ def friction_law(ratio: float) -> FrictionLaw:
     return FrictionLaw() if ratio == 1.0 else FrictionLaw("static_kinetic", ratio)
 
 
+def _pairs(settings) -> np.ndarray:
+    """The (y2'', y3'') settings as an array [setting, 2]."""
+    return np.asarray(settings, dtype=float).reshape(-1, 2)
+
+
 def static_friction_content(y2, y3, ratios, settings, sweep_excess, *, dt: float, dy: float, w: float, c_mu: float,
                             n_entries: int, sweep_entries: int, max_periods: int = MAX_PERIODS):
     """Contents of ``results/effects/static_friction.h5``: accumulation under mu_s = r mu_k.
@@ -36,7 +41,7 @@ def static_friction_content(y2, y3, ratios, settings, sweep_excess, *, dt: float
     the attributes the common setting.
     """
     y2, y3 = np.asarray(y2, dtype=float), np.asarray(y3, dtype=float)
-    settings = np.asarray(settings, dtype=float).reshape(-1, 2)
+    settings = _pairs(settings)
     sweep_ratios = np.concatenate([[1.0], 1.0 + np.asarray(sweep_excess, dtype=float)])
     common = {"w": w, "c_mu": c_mu, "max_periods": max_periods, "progress": "quiet"}
     g2, g3 = np.meshgrid(y2, y3, indexing="ij")
@@ -60,10 +65,6 @@ def static_friction_content(y2, y3, ratios, settings, sweep_excess, *, dt: float
 def stribeck_law(ratio: float, v_s: float, delta: float) -> FrictionLaw:
     """The Stribeck law mu(v) = mu_k (1 + (r - 1) exp(-(|v|/v_s)^delta)), r = ``ratio``."""
     return FrictionLaw("stribeck", ratio, v_s=v_s, delta=delta)
-
-
-def _pairs(settings) -> np.ndarray:
-    return np.asarray(settings, dtype=float).reshape(-1, 2)
 
 
 def stribeck_steady(v_s_fractions, settings, *, dt: float, dy: float, ratio: float, delta: float,
@@ -106,6 +107,7 @@ def stribeck_stopping(v_s_fractions, settings, *, dt: float, dy: float, w: float
         limits.update({f"{field}_{name}": np.array([getattr(e, field) for e in exact])
                        for field in ("frac_accumulate", "dx_d")})
     return {"datasets": {"y2": settings[:, 0], "y3": settings[:, 1],
+                         "velocity_swing": np.array([p.velocity_swing for p in profiles]),
                          **{field: np.array([[getattr(r, field) for r in row] for row in runs])
                             for field in ("frac_accumulate", "frac_rest", "dx_d")}, **limits},
             "attrs": {"dt": float(dt), "dy": float(dy), "w": float(w), "c_mu": float(c_mu),
