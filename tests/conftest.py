@@ -127,6 +127,10 @@ def small_config(repo: Path) -> dict:
     s["effects"]["static_friction"].update(y2=axis(2.0, 2.4), y3=axis(1.0, 1.4), n_entries=4, ratios=[1.0, 1.3],
                                            settings=[[2.3, 1.3]], sweep_entries=4,
                                            excess={"from": 0.1, "to": 0.3, "count": 2, "scale": "log"})
+    s["effects"]["stribeck"].update(v_s={"from": 1.0e-3, "to": 1.0, "count": 2, "scale": "log"},
+                                    steps_per_period=200, steady={**s["effects"]["stribeck"]["steady"],
+                                                                  "settings": [[2.0, 0.5]]},
+                                    stopping={"settings": [[2.3, 1.3]], "n_entries": 2, "max_periods": 200})
     j = s["finite_jerk"]
     j["ramp_fractions"] = [0.0, 0.05]
     for plane in j["steady"].values():
@@ -151,7 +155,7 @@ def small_pipeline(repo, tmp_path_factory):
     targets += [f"results/classification/{n}.h5" for n in ("fig04", "fig06", "verify_maps")]
     targets += [f"results/accumulation/{n}.h5" for n in ("fig16", "fig17", "fig18")]
     targets += [f"results/design/{name}.h5" for name in s["design"]["designs"]]
-    targets += ["results/effects/static_friction.h5",
+    targets += ["results/effects/static_friction.h5", "results/effects/stribeck.h5",
                 "results/finite_jerk/finite_jerk.h5"]
     rc, out = run_snakemake(workdir, "-c2")
     return workdir, targets, rc, out

@@ -20,13 +20,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..model.errors import check_integer, check_positive
-from ..model.friction import StopZone
+from ..model.friction import FrictionLaw, StopZone
 from ..model.profiles import RAMPS_TOO_LONG, FiniteJerkProfile, ThreePhaseProfile
 from ..model.scene import Record, Scene
 from ..progress import Progress, resolve_mode
 from ..solvers.driver import simulate, simulate_batch
-from ..solvers.outcomes import Status
-from .steady_simulation import exact_steady_state
+from ..solvers.outcomes import STATUS_CODES, Status
+from .steady_simulation import exact_steady_state, simulated_steady_state
 
 
 def jerk_profile(dt: float, dy: float, y2: float, y3: float, ramp_fraction: float):
@@ -109,15 +109,18 @@ class Stopping:
 
 
 def stopping(profile, *, w: float, c_mu: float, n_entries: int = 16, steps_per_period: int = 10_000,
-             max_periods: int = 1000, offset: float = 0.5, method: str = "moreau") -> Stopping:
+             max_periods: int = 1000, offset: float = 0.5, method: str = "moreau",
+             friction: FrictionLaw | None = None) -> Stopping:
     """Steady-state entries into a stop zone (module docstring), Moreau with ``steps_per_period``
     (batched), or ``method="ivp"`` (solve_ivp at its default tolerances, one run per entry: slow,
-    the cross-check).
+    the cross-check), under the :class:`~selfalign.model.friction.FrictionLaw` ``friction``
+    (default: the paper's Coulomb law).
 
-    The steady state (exact solver, uniform surface) gives vbar and the period-boundary velocity
-    v0; the zone starts at x_mu = the largest advance within a steady period, and entry j
-    starts at x = -vbar dt (j + offset) / n_entries, x' = v0, phase 0.  ValueError if the
-    steady state does not move forward.
+    The steady state (uniform surface: exact solver under Coulomb friction, else Moreau with
+    ``steps_per_period``, since the exact solver has no Stribeck arcs) gives vbar and the
+    period-boundary velocity v0; the zone starts at x_mu = the largest advance within a
+    steady period, and entry j starts at x = -vbar dt (j + offset) / n_entries, x' = v0,
+    phase 0.  ValueError if the steady state does not move forward.
     """
     if not isinstance(profile, (ThreePhaseProfile, FiniteJerkProfile)):
         raise ValueError(f"profile must be a ThreePhaseProfile or FiniteJerkProfile, got {profile!r}")
@@ -126,23 +129,34 @@ def stopping(profile, *, w: float, c_mu: float, n_entries: int = 16, steps_per_p
     n_entries = check_integer("n_entries", n_entries)
     if method not in ("moreau", "ivp"):
         raise ValueError(f"method must be 'moreau' or 'ivp', got {method!r}")
-    state = exact_steady_state(profile, aperiodic="average")
+    friction = FrictionLaw() if friction is None else friction
+    if friction.kind == "coulomb":
+        state = exact_steady_state(profile, aperiodic="average")
+        steady_method, steady_options = "exact", {}
+    else:
+        state = simulated_steady_state([profile], "moreau", steps_per_period=steps_per_period, progress="quiet",
+                                       friction=friction)
+        steady_method, steady_options = "moreau", {"h": profile.dt / steps_per_period}
     vbar, v0 = float(state.vbar[0]), float(state.v0[0])
     if not vbar > 0.0:
         raise ValueError(f"the steady state of {profile!r} does not move forward (vbar = {vbar!r})")
-    period = simulate(Scene(profile, v0=v0, periods=1, record=Record(series=("x",), samples_per_period=2000)))
+    period = simulate(Scene(profile, v0=v0, periods=1, friction=friction,
+                            record=Record(series=("x",), samples_per_period=2000)),
+                      method=steady_method, **steady_options)
     x_mu = float(np.max(period.series["x"]))        # the largest x is at a v = 0 event, which is sampled
     x0 = -vbar * profile.dt * (np.arange(n_entries) + offset) / n_entries
     zone = StopZone(x_mu, w, c_mu)
     if method == "moreau":
         res = simulate_batch(profile, x0, v0, surface=zone, until="rest", max_periods=max_periods,
-                             method="moreau", steps_per_period=steps_per_period)
-        status, x_end = np.array([list(Status)[code] for code in res.status]), res.x_end
+                             method="moreau", steps_per_period=steps_per_period, friction=friction)
+        codes, x_end = np.asarray(res.status), res.x_end
     else:
-        runs = [simulate(Scene(profile, surface=zone, x0=float(x), v0=v0, until="rest", max_periods=max_periods),
-                         method="ivp") for x in x0]
-        status, x_end = np.array([run.status for run in runs]), np.array([run.x_end for run in runs])
-    accumulate, rest = status == Status.ACCUMULATION, status == Status.REST
+        runs = [simulate(Scene(profile, surface=zone, x0=float(x), v0=v0, until="rest", max_periods=max_periods,
+                               friction=friction), method="ivp") for x in x0]
+        codes, x_end = np.array([STATUS_CODES[run.status] for run in runs]), np.array([run.x_end for run in runs])
+    # Codes, not an array of Status: numpy stores a str enum as str(member) cut to len(value), so such
+    # an array compares unequal to its own members once the statuses are mixed.
+    accumulate, rest = codes == STATUS_CODES[Status.ACCUMULATION], codes == STATUS_CODES[Status.REST]
     stops = accumulate | rest
     ends = x_end[stops]
     return Stopping(float(np.mean(accumulate)), float(np.mean(rest)), float(np.mean(~stops)),

@@ -131,15 +131,16 @@ def _bisect(period_map, scale, dt, floor, rtol, max_iter, bar):
     hi[at_zero] = 0.0
     periods = np.ones(scale.size, dtype=np.int64)
     check = members[~at_zero]
-    end, dx_hi[check] = period_map(check, side[check] * scale[check])
-    bar.advance()
-    periods[check] += 1
-    v_hi[check] = side[check] * scale[check]
-    g_hi[check] = end - v_hi[check]
-    bad = side[check] * g_hi[check] > floor[check]
-    if bad.any():
-        raise RuntimeError(f"steady state: x'(0) in [-s, s] (s = velocity swing) does not contain the "
-                           f"fixed point of the period map for member {int(check[bad][0])}")
+    if check.size:      # none where every member's steady period starts at rest (Moreau refuses empty batches)
+        end, dx_hi[check] = period_map(check, side[check] * scale[check])
+        bar.advance()
+        periods[check] += 1
+        v_hi[check] = side[check] * scale[check]
+        g_hi[check] = end - v_hi[check]
+        bad = side[check] * g_hi[check] > floor[check]
+        if bad.any():
+            raise RuntimeError(f"steady state: x'(0) in [-s, s] (s = velocity swing) does not contain the "
+                               f"fixed point of the period map for member {int(check[bad][0])}")
     active = check[hi[check] - lo[check] > rtol * scale[check]]
     for _ in range(max_iter):
         if active.size == 0:
@@ -205,11 +206,13 @@ def exact_steady_state(profile, v0: float = 0.0, max_periods: int = 200_000,
                        f"<= {MAX_CYCLE} periods) in {max_periods} periods ({res.message(0)})")
 
 
-def _moreau_period_map(profiles, steps_per_period: int, iteration: str):
-    """Period map from batched Moreau time-stepping with ``steps_per_period`` steps (h = dt / N)."""
+def _moreau_period_map(profiles, steps_per_period: int, iteration: str, friction=None):
+    """Period map from batched Moreau time-stepping with ``steps_per_period`` steps (h = dt / N)
+    under the :class:`~selfalign.model.friction.FrictionLaw` ``friction`` (default Coulomb)."""
     def period_map(index, v):
         res = simulate_batch(profiles, 0.0, v, profile_index=index, until="periods", periods=1, method="moreau",
-                             steps_per_period=steps_per_period, iteration=iteration, fast_forward=False)
+                             steps_per_period=steps_per_period, iteration=iteration, fast_forward=False,
+                             friction=friction)
         return np.reshape(res.v_end, index.shape), np.reshape(res.records["xi"], index.shape)  # x0 = 0
     return period_map
 
@@ -231,8 +234,8 @@ def _three_phase_period_map(dt, dy, y2, y3, friction=None):
 
 
 def simulated_steady_state(profiles, method: str = "exact", *, steps_per_period: int = 1000,
-                           iteration: str = "exact", rtol: float = RTOL, progress: str = "auto"
-                           ) -> SimulatedSteadyState:
+                           iteration: str = "exact", rtol: float = RTOL, progress: str = "auto",
+                           friction=None) -> SimulatedSteadyState:
     """Steady state of each profile on a uniform surface by simulation (module docstring).
 
     ``method="exact"``: :func:`exact_steady_state` for each profile;
@@ -240,11 +243,16 @@ def simulated_steady_state(profiles, method: str = "exact", *, steps_per_period:
     the implicit step solved by ``iteration`` ("exact" soft threshold or the
     paper's "fixed_point"), all profiles in one batch, iterated to the steady
     state by :func:`iterate_to_steady_state`.  ``progress``: :mod:`selfalign.progress` mode
-    (profiles done with "exact", bisection steps with "moreau").
+    (profiles done with "exact", bisection steps with "moreau").  ``friction``: a
+    :class:`~selfalign.model.friction.FrictionLaw` (default Coulomb), with ``method="moreau"``
+    only (the Stribeck law has no exact arcs; static/kinetic three-phase profiles:
+    :func:`three_phase_simulated_steady_state`).
     """
     profiles = list(profiles)
     if not profiles:
         raise ValueError("profiles: give at least one profile")
+    if friction is not None and method != "moreau":
+        raise ValueError(f"friction is simulated here with method 'moreau' only, got method {method!r}")
     resolve_mode(progress)
     if method == "exact":
         parts = []
@@ -259,7 +267,7 @@ def simulated_steady_state(profiles, method: str = "exact", *, steps_per_period:
     if isinstance(steps_per_period, bool) or not isinstance(steps_per_period, int) or steps_per_period < 2:
         raise ValueError(f"steps_per_period must be an integer >= 2, got {steps_per_period!r}")
     scale = np.array([p.velocity_swing for p in profiles])
-    return iterate_to_steady_state(_moreau_period_map(profiles, steps_per_period, iteration), scale,
+    return iterate_to_steady_state(_moreau_period_map(profiles, steps_per_period, iteration, friction), scale,
                                    np.array([p.dt for p in profiles]), floor=steps_per_period * _EPS * scale,
                                    rtol=rtol, progress=progress)
 

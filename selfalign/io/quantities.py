@@ -249,6 +249,24 @@ QUANTITIES: dict[str, Quantity] = {
     "sweep/y3": Quantity("acceleration", "y3'' of each sweep setting"),
     "sweep/dx_d": Quantity("length", "[setting, r]: dx_d (eq. 39) over the entries that stop"),
     "sweep/frac_accumulate": Quantity("number", "[setting, r]: fraction of the entries that accumulate"),
+    # Stribeck friction, results/effects/stribeck.h5 (selfalign.stages.effects): [setting, v_s]
+    "v_s_fraction": Quantity("number", "Stribeck velocity v_s in units of each profile's velocity swing"),
+    "stribeck_*/y2": Quantity("acceleration", "y2'' of each setting"),
+    "stribeck_*/y3": Quantity("acceleration", "y3'' of each setting"),
+    "stribeck_*/velocity_swing": Quantity("velocity", "max y' - min y' of each setting (the unit of v_s)"),
+    "stribeck_steady/vbar": Quantity("velocity", "[setting, v_s]: steady average velocity vbar (eq. 10), Moreau"),
+    "stribeck_steady/vbar_static_kinetic": Quantity("velocity", "vbar under static/kinetic friction (the limit "
+                                                                "v_s -> 0), exact solver"),
+    "stribeck_steady/vbar_coulomb": Quantity("velocity", "vbar under the paper's Coulomb friction, exact solver"),
+    "stribeck_stopping/frac_accumulate": Quantity("number", "[setting, v_s]: fraction of the entries that "
+                                                            "accumulate, Moreau"),
+    "stribeck_stopping/frac_rest": Quantity("number", "[setting, v_s]: fraction of the entries that come to rest, "
+                                                      "Moreau"),
+    "stribeck_stopping/dx_d": Quantity("length", "[setting, v_s]: dx_d (eq. 39) over the entries that stop, Moreau"),
+    "stribeck_stopping/frac_accumulate_*": Quantity("number", "fraction of the entries that accumulate under "
+                                                              "static/kinetic or Coulomb friction, exact solver"),
+    "stribeck_stopping/dx_d_*": Quantity("length", "dx_d (eq. 39) under static/kinetic or Coulomb friction, exact "
+                                                   "solver"),
     # finite jerk (selfalign.stages.finite_jerk): grids of shape (ramp fractions, y2'', y3'')
     "ramp_fractions": Quantity("number", "ramp time of y'' at each switch as a fraction of dt (0: the paper's "
                                          "profile)"),

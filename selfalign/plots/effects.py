@@ -98,3 +98,51 @@ def figure_static_friction(result):
     fig.suptitle(setting_title(**{k: a[k] for k in ("dt", "dy", "w", "c_mu")}) + r", static friction $\mu_s$ = r "
                  r"$\mu_k$", fontsize="medium")
     return fig
+
+
+def against_v_s(ax, v_s_fraction, settings, values, limits, ylabel: str):
+    """``values`` [setting, v_s] of each (y2'', y3'') of ``settings`` against v_s / velocity swing
+    (log axis), with each setting's ``limits`` (label -> [setting] values: the first dashed, the
+    second dotted, e.g. the static/kinetic limit v_s -> 0 and Coulomb) as horizontal lines in its
+    colour; the legend names the line styles in grey."""
+    styles = ("--", ":")
+    for k, ((y2, y3), row, color) in enumerate(zip(settings, values, SETTING_COLORS)):
+        ax.plot(v_s_fraction, row, "o-", color=color, markersize=3, label=setting_title(y2=y2, y3=y3))
+        for level, style in zip(limits.values(), styles):
+            ax.axhline(level[k], color=color, linestyle=style, linewidth=1.0)
+    for label, style in zip(limits, styles):
+        ax.plot([], [], color="grey", linestyle=style, linewidth=1.0, label=label)
+    ax.set_xscale("log")
+    ax.set_xlabel(r"$v_s$ / velocity swing ($\max \dot y - \min \dot y$)")
+    ax.set_ylabel(ylabel)
+    ax.grid(True, which="major", linewidth=0.4, alpha=0.5)
+    ax.legend(fontsize="x-small")
+    return ax
+
+
+def figure_stribeck_friction(result):
+    """The Stribeck-friction figure from ``stribeck.h5``: vbar of the steady settings (left), the
+    fraction of entries that accumulate (middle) and Delta x_d (right) of the stopping settings,
+    against v_s, each with its static/kinetic (v_s -> 0, dashed) and Coulomb (dotted) values."""
+    a, v_s = result["attrs"], result["datasets"]["v_s_fraction"]
+    steady = result["groups"]["stribeck_steady"]
+    entries = result["groups"]["stribeck_stopping"]
+    d, e = steady["datasets"], entries["datasets"]
+    fig = Figure(figsize=(14.0, 4.8), layout="constrained")
+    ax_vbar, ax_acc, ax_dx = fig.subplots(1, 3)
+    static, coulomb = r"static/kinetic ($v_s \to 0$)", "Coulomb (r = 1)"
+    against_v_s(ax_vbar, v_s, np.column_stack([d["y2"], d["y3"]]), d["vbar"],
+                {static: d["vbar_static_kinetic"], coulomb: d["vbar_coulomb"]}, r"$\bar v$ (eq. 10)")
+    ax_vbar.set_title(setting_title(**{k: steady["attrs"][k] for k in ("dt", "dy")}) + ", uniform surface",
+                      fontsize="medium")
+    settings = np.column_stack([e["y2"], e["y3"]])
+    for ax, field, label in ((ax_acc, "frac_accumulate", "fraction of entries that accumulate"),
+                             (ax_dx, "dx_d", r"$\Delta x_d$ (eq. 39)")):
+        against_v_s(ax, v_s, settings, e[field], {static: e[f"{field}_static_kinetic"],
+                                                  coulomb: e[f"{field}_coulomb"]}, label)
+        ax.set_title(setting_title(**{k: entries["attrs"][k] for k in ("dt", "dy", "w", "c_mu")})
+                     + f", {entries['attrs']['n_entries']} entries", fontsize="medium")
+    fig.suptitle(r"Stribeck friction $\mu(v) = \mu_k\,(1 + (r - 1)\,e^{-(|v|/v_s)^\delta})$, "
+                 f"r = {a['ratio']:g}, " + r"$\delta$" + f" = {a['delta']:g} (Moreau, " + r"$\Delta t$"
+                 + f"/{a['steps_per_period']})", fontsize="medium")
+    return fig

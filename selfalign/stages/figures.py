@@ -19,7 +19,7 @@ from ..plots.accumulation import figure_14, figure_15, figure_16, figure_17, fig
 from ..plots.annotate import overshoot_dimensions
 from ..plots.classification import figure_04, figure_05, figure_06, figure_08, figure_map
 from ..plots.design import figure_design
-from ..plots.effects import figure_static_friction
+from ..plots.effects import figure_static_friction, figure_stribeck_friction
 from ..plots.finite_jerk import finite_jerk_figure
 from ..plots.profile import figure_07
 from ..plots.simulation import figure_03, figure_09, figure_12, figure_accuracy_cost
@@ -63,6 +63,7 @@ FIGURES = {
     "fig18": lambda results: figure_18(*results),
     "accuracy_cost": figure_accuracy_cost,
     "static_friction": lambda results: figure_static_friction(*results),
+    "stribeck_friction": lambda results: figure_stribeck_friction(*results),
     "finite_jerk": lambda results: finite_jerk_figure(*grids_from_result(*results)),
 }
 

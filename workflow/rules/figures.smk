@@ -39,6 +39,7 @@ FIGURES = {
     "fig18": (ACCUMULATION_FIGURES, [results("accumulation", "fig18")], {}),
     "accuracy_cost": (SOLVER_FIGURES, [results("accuracy", n) for n in scenes("accuracy")], {}),
     "static_friction": (EFFECT_FIGURES, [results("effects", "static_friction")], {}),
+    "stribeck_friction": (EFFECT_FIGURES, [results("effects", "stribeck")], {}),
     "finite_jerk": (EFFECT_FIGURES, [results("finite_jerk", "finite_jerk")], {}),
     # One per design spec (selfalign.stages.figures.FAMILIES), all with the caption design.rst.
     **{f"design_{name}": (DESIGN_FIGURES, [results("design", name)], {}) for name in DESIGNS},
