@@ -542,7 +542,8 @@ class Design:
             f"effects: {self.spec.effects()}; simulated with {v.method}",
             "assumes: " + "; ".join(self.assumptions),
             f"search: {self.search['designs']} designs"
-            + (f", {self.search['ramps_do_not_fit']} dropped (the ramps do not fit)" if self.spec.ramp else "")
+            + (f", {self.search['ramps_do_not_fit']} physical ones dropped (the ramps do not fit)" if self.spec.ramp
+               else "")
             + f", {self.search['screened']} pass the closed forms (the paper's model: a heuristic ranking where "
             f"effects are declared), {self.search['verified']} simulated, {self.search['seconds']:.2g} s",
         ]
@@ -629,10 +630,13 @@ def design(spec: DesignSpec, *, progress: str = "auto") -> Design:
     start = time.perf_counter()
     cand = search_grid(spec)
     designs = len(cand)
+    ramps_do_not_fit = 0
     if spec.ramp is not None:  # the Appendix's constraints with ramps (scale-free, so in SI)
         ramp = spec.ramp
-        cand = cand.take(np.flatnonzero(finite_jerk_times(cand.period, cand.stroke, cand.y2, cand.y3, ramp, ramp,
-                                                          ramp).valid))
+        fits = finite_jerk_times(cand.period, cand.stroke, cand.y2, cand.y3, ramp, ramp, ramp).valid
+        ramps_do_not_fit = int(np.count_nonzero(~fits & (three_phase_feasibility(cand.period, cand.stroke, cand.y2,
+                                                                                 cand.y3) <= 1.0)))
+        cand = cand.take(np.flatnonzero(fits))
     scr = screen(spec, cand)
     ok = np.flatnonzero(scr.ok)
     margin = np.full(len(cand), np.nan)
@@ -666,7 +670,7 @@ def design(spec: DesignSpec, *, progress: str = "auto") -> Design:
     front_tm = {"period": cand.period[ok][keep], "stroke": cand.stroke[ok][keep], "y2": cand.y2[ok][keep],
                 "y3": cand.y3[ok][keep], "c_mu": cand.c_mu[ok][keep], "t_estimate": scr.t_estimate[ok][keep],
                 "margin": margin[ok][keep]}
-    search = {"designs": designs, "ramps_do_not_fit": designs - len(cand), "screened": int(ok.size),
+    search = {"designs": designs, "ramps_do_not_fit": ramps_do_not_fit, "screened": int(ok.size),
               "verified": verified, "entries": spec.grid.entries, "seconds": time.perf_counter() - start}
     if chosen is None:
         merged = _merge([ver for _, ver in checked]) if checked else None
