@@ -19,7 +19,7 @@ import selfalign as sa
 from selfalign.analysis.design import Candidates, design, dimensionless, mu_values, search_grid, verify
 from selfalign.analysis.positioning import three_phase_table
 from selfalign.analysis.steady_state import steady_state_grid
-from selfalign.io.design_spec import DesignSpecError, design_spec_from_dict, load_design_spec
+from selfalign.io.design_spec import design_spec_from_dict, load_design_spec
 from selfalign.model.design_spec import DesignGrid, DesignSpec
 from selfalign.model.friction import FrictionLaw, StopZone
 from selfalign.model.scene import Scene
@@ -288,13 +288,9 @@ def test_static_friction_takes_the_accumulation_guarantee_away():
     assert not design(static, progress="quiet").found
 
 
-def test_spec_friction_block_is_read_and_stribeck_refused(tmp_path):
-    """Hypothesis: a spec file's friction block reaches the spec (static/kinetic r = 1.3), and Stribeck
-    is refused before any work with one line naming the file, the kind and what is allowed."""
+def test_spec_friction_block_is_read():
+    """Hypothesis: a spec file's friction block reaches the spec (static/kinetic r = 1.3; Stribeck in
+    tests/test_design_effects.py)."""
     data = yaml.safe_load((ROOT / "workflow/designs/smd_steel_table.yaml").read_text())
     data["friction"] = {"kind": "static_kinetic", "mu_s_over_mu_k": 1.3}
     assert design_spec_from_dict(data, "spec.yaml").friction == FrictionLaw("static_kinetic", 1.3)
-    data["friction"] = {"kind": "stribeck", "mu_s_over_mu_k": 1.3, "v_s": 0.01}
-    with pytest.raises(DesignSpecError, match=r"^spec\.yaml: friction\.kind stribeck is not supported by the design "
-                                              r"tool: .*exact batch solver.*allowed kinds: coulomb, static_kinetic$"):
-        design_spec_from_dict(data, "spec.yaml")

@@ -21,6 +21,13 @@ tolerance.  Survivors are ranked by a closed-form process time (distance to trav
 slowest vbar, :class:`Screen`) and verified
 with the engine, best first.
 
+Effects (issue 16).  The spec may declare static/kinetic or Stribeck friction and y'' ramps
+(finite jerk; candidates whose ramps do not fit are dropped and counted).  The closed forms
+above are the paper's model, so they then only rank the candidates (a heuristic); the
+guarantee and the process time are simulated with the effect (:func:`friction_at`,
+:func:`ramp_at`), by the most exact method that can
+(:func:`~selfalign.solvers.methods.most_exact_method`; ``Verification.method``).
+
 Guarantee (per candidate, :func:`verify`).  At ``mu_samples`` values of mu (both extremes
 and the middle included), every one of ``entries`` steady-state entries into the strip
 (Sect. 7.1, :func:`~selfalign.analysis.positioning.positioning_grid`) must end at rest or
@@ -33,7 +40,8 @@ start of the dwell (t = 0), until its first arrival within the tolerance of x_d
 (``t_arrive``; an accumulation reaches x_d only as t -> infinity, so the band is needed)
 and until the solver decides rest or accumulation (``t_rest``), at every mu sample.
 
-The guarantee is as strong as the model (:data:`ASSUMPTIONS`).
+The guarantee is as strong as the model (:data:`ASSUMPTIONS`, with the spec's effects:
+``Design.assumptions``).
 """
 
 from __future__ import annotations
@@ -45,13 +53,19 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..model.design_spec import DesignSpec
-from ..model.friction import stick_limit
-from ..model.profiles import CASE_LABELS, ThreePhaseProfile, three_phase_feasibility, three_phase_times
+from ..model.friction import FrictionLaw, StopZone, stick_limit, stick_limits
+from ..model.profiles import (
+    CASE_LABELS,
+    ThreePhaseProfile,
+    finite_jerk_times,
+    three_phase_feasibility,
+    three_phase_times,
+)
 from ..model.units import SIScale
 from ..progress import Progress
 from ..solvers.driver import simulate_batch
 from ..solvers.outcomes import STATUS_CODES, Status
-from .positioning import MAX_PERIODS, positioning_grid, three_phase_table
+from .positioning import MAX_PERIODS, positioning_grid, setting_method, setting_table
 from .steady_state import steady_state_grid
 from .stick_map import stick_map, stick_map_validity
 
@@ -128,12 +142,32 @@ def mu_values(spec: DesignSpec, n: int) -> np.ndarray:
     return np.linspace(lo, hi, n) if hi > lo else np.full(n, lo)
 
 
+def friction_at(spec: DesignSpec, mu: float) -> FrictionLaw:
+    """The spec's friction law as the model sees it at ``mu``: its Stribeck velocity (m/s in the
+    spec) in the velocity unit sqrt(mu g L)."""
+    law = spec.friction
+    if not law.stribeck:
+        return law
+    return FrictionLaw("stribeck", law.ratio, v_s=law.v_s / scale(spec, mu).unit("velocity"), delta=law.delta)
+
+
+def ramp_at(spec: DesignSpec, mu: float) -> float:
+    """The spec's y'' ramp time in the time unit T(mu) (0 for the paper's jumps)."""
+    return 0.0 if spec.ramp is None else spec.ramp / scale(spec, mu).T
+
+
+def stick_offset(spec: DesignSpec, cand: Candidates, mu: float) -> np.ndarray:
+    """x_stick_min - x_mu (eq. 41, :data:`~selfalign.model.friction.stick_limits`) at ``mu``, in m."""
+    return stick_limits(np.maximum(cand.y2, cand.y3) / (mu * spec.g), spec.width, cand.c_mu)
+
+
 def end_spread(spec: DesignSpec, cand: Candidates) -> np.ndarray:
     """Half the range of x_stick_min (eq. 41) over the mu range, in m: the robust positioning
-    error of a design whose entries all accumulate (x_stick_min - x_mu = w (y/(mu g) - 1)/(c_mu - 1))."""
+    error of a design whose entries all accumulate (inf where the strip cannot hold the part)."""
     lo, hi = spec.mu_range
-    top = np.maximum(cand.y2, cand.y3)
-    return 0.5 * spec.width * top / (spec.g * (cand.c_mu - 1.0)) * (1.0 / lo - 1.0 / hi)
+    with np.errstate(invalid="ignore"):
+        spread = 0.5 * (stick_offset(spec, cand, lo) - stick_offset(spec, cand, hi))
+    return np.where(np.isnan(spread), np.inf, spread)
 
 
 @dataclass(frozen=True)
@@ -199,7 +233,8 @@ def screen(spec: DesignSpec, cand: Candidates) -> Screen:
     within = end_spread(spec, cand) <= spec.tolerance if spec.accumulation else np.ones(n, bool)
     # A lower bound of the process time: the part covers the distance and, in the strip, at least
     # x_stick_min (eq. 41) at mu_max less the tolerance, at no more than the slowest steady speed.
-    inside = spec.width * (np.maximum(cand.y2, cand.y3) / (spec.mu_range[1] * spec.g) - 1.0) / (cand.c_mu - 1.0)
+    inside = np.zeros(n)
+    inside[moves] = stick_offset(spec, cand.take(moves), spec.mu_range[1])
     with np.errstate(divide="ignore", invalid="ignore"):
         t_est = np.where(moves, (spec.distance + np.maximum(inside - spec.tolerance, 0.0)) / vbar_min, np.inf)
     return Screen(physical, moves, holds, shape, within, slip_phase(spec, cand) < 0.5 * math.pi, vbar_min, t_est)
@@ -248,7 +283,8 @@ class Verification:
     process run, ``process_stops``.  Per candidate: ``x_d``, ``error`` [m] (robust
     Delta_x_d over entries and mu), ``stops`` (every entry ends at every mu),
     ``accumulates`` (every entry accumulates at every mu), ``guaranteed``, ``failure``
-    (why not, "" if guaranteed).
+    (why not, "" if guaranteed); ``method``: the solver of the simulations
+    (:func:`~selfalign.solvers.methods.most_exact_method`).
     """
 
     mu: np.ndarray
@@ -272,6 +308,7 @@ class Verification:
     accumulates: np.ndarray
     guaranteed: np.ndarray
     failure: tuple[str, ...]
+    method: str
 
 
 def sufficient_condition(profile: ThreePhaseProfile, c_mu: float) -> int:
@@ -297,25 +334,27 @@ def verify(spec: DesignSpec, cand: Candidates, n_entries: int | None = None) -> 
     case = np.zeros(shape, np.int8)
     sufficient = np.full(shape, -1, np.int8)
     dims = [dimensionless(spec, cand, mu) for mu in mus]
+    methods = set()
     for c in np.unique(cand.c_mu):
         rows = np.flatnonzero(cand.c_mu == c)
-        arrays = [np.stack([d[j][rows] for d in dims], axis=1) for j in range(4)]
-        grid = positioning_grid(*arrays, w=1.0, c_mu=float(c), n_entries=n_entries, progress="quiet",
-                                friction=spec.friction)
-        length = spec.width  # L
-        case[rows] = grid.case
-        for key in ("frac_accumulate", "frac_stop", "frac_never_stop", "frac_undecided"):
-            out[key][rows] = getattr(grid, key)
-        for key, value in (("dx_d", grid.dx_d), ("x_stick_min", grid.x_stick_min), ("end_min", grid.overshoot_min),
-                           ("end_max", grid.overshoot_max)):
-            out[key][rows] = value * length
-        out["vbar"][rows] = grid.vbar * np.array([scale(spec, mu).unit("velocity") for mu in mus])
-    # Eq. (59)'s sufficient condition is Coulomb's; under static friction nothing accumulates
-    # (README "Static and kinetic friction"), so it is left at -1 (does not apply).
-    coulomb = spec.friction.kind == "coulomb"
+        for j, mu in enumerate(mus):  # the effects' parameters are dimensionless per mu
+            grid = positioning_grid(*(a[rows] for a in dims[j]), w=1.0, c_mu=float(c), n_entries=n_entries,
+                                    progress="quiet", friction=friction_at(spec, mu), ramp=ramp_at(spec, mu))
+            methods.add(grid.method)
+            case[rows, j] = grid.case
+            for key in ("frac_accumulate", "frac_stop", "frac_never_stop", "frac_undecided"):
+                out[key][rows, j] = getattr(grid, key)
+            for key, value in (("dx_d", grid.dx_d), ("x_stick_min", grid.x_stick_min),
+                               ("end_min", grid.overshoot_min), ("end_max", grid.overshoot_max)):
+                out[key][rows, j] = value * spec.width  # L
+            out["vbar"][rows, j] = grid.vbar * scale(spec, mu).unit("velocity")
+    # Eq. (59)'s sufficient condition is that of the paper's model (Coulomb friction, y'' jumps);
+    # under static friction nothing accumulates (README "Static and kinetic friction"); with
+    # another effect it is left at -1 (does not apply).
+    paper_model = spec.friction.kind == "coulomb" and spec.ramp is None
     for i in range(k):
         for j, mu in enumerate(mus):
-            if coulomb and case[i, j] > 0:
+            if paper_model and case[i, j] > 0:
                 profile = ThreePhaseProfile(*(float(a[i]) for a in dims[j]))
                 sufficient[i, j] = sufficient_condition(profile, float(cand.c_mu[i]))
     stops = np.all((out["frac_accumulate"] + out["frac_stop"]) == 1.0, axis=1)
@@ -323,7 +362,7 @@ def verify(spec: DesignSpec, cand: Candidates, n_entries: int | None = None) -> 
     lo = np.where(stops, np.min(np.where(stops[:, None], out["end_min"], 0.0), axis=1), np.nan)
     hi = np.where(stops, np.max(np.where(stops[:, None], out["end_max"], 0.0), axis=1), np.nan)
     x_d, error = 0.5 * (lo + hi), 0.5 * (hi - lo)
-    process_stops = _process_runs(spec, cand, mus, dims, x_d, stops, out)
+    process_stops = _process_runs(spec, cand, mus, dims, x_d, stops, out, methods)
     within = error <= spec.tolerance
     in_time = np.ones(k, bool) if spec.max_process_time is None else np.all(out["t_arrive"] <= spec.max_process_time,
                                                                             axis=1)
@@ -332,32 +371,35 @@ def verify(spec: DesignSpec, cand: Candidates, n_entries: int | None = None) -> 
     failure = tuple(_failure(spec, i, out, stops, accumulates, within, process_stops, in_time, sufficient)
                     for i in range(k))
     return Verification(mu=mus, case=case, sufficient=sufficient, process_stops=process_stops, x_d=x_d, error=error,
-                        stops=stops, accumulates=accumulates, guaranteed=guaranteed, failure=failure, **out)
+                        stops=stops, accumulates=accumulates, guaranteed=guaranteed, failure=failure,
+                        method="; ".join(sorted(methods - {""})), **out)
 
 
-def _process_runs(spec, cand, mus, dims, x_d, stops, out) -> np.ndarray:
+def _process_runs(spec, cand, mus, dims, x_d, stops, out, methods) -> np.ndarray:
     """The process run of every candidate whose entries all stop, at every mu: fills
-    ``t_arrive``, ``t_rest`` [s] of ``out``; returns where it ended at rest or accumulated."""
-    k, n_mu = len(cand), mus.size
-    ended = np.zeros((k, n_mu), bool)
+    ``t_arrive``, ``t_rest`` [s] of ``out``; returns where it ended at rest or accumulated.
+    Adds the description of the method it ran with to the set ``methods``."""
+    ended = np.zeros((len(cand), mus.size), bool)
     rows = np.flatnonzero(stops)
-    if rows.size == 0:
-        return ended
-    member = np.repeat(rows, n_mu)
-    col = np.tile(np.arange(n_mu), rows.size)
-    dt, dy, y2, y3 = (np.array([dims[j][m][i] for i, j in zip(member, col)]) for m in range(4))
     length = spec.width
-    vbar = out["vbar"][member, col] / np.array([scale(spec, mus[j]).unit("velocity") for j in col])
-    budget = int(np.max(np.ceil(2.0 * spec.distance / length / (vbar * dt)))) + MAX_PERIODS
-    level = (x_d[member] - spec.tolerance) / length
-    res = simulate_batch(three_phase_table(dt, dy, y2, y3), -spec.distance / length, 0.0, 0.0,
-                         profile_index=np.arange(member.size), x_mu=np.zeros(member.size), w=np.ones(member.size),
-                         c_mu=cand.c_mu[member], levels=level[:, None], until="rest", max_periods=budget,
-                         friction=spec.friction)
-    period = cand.period[member]
-    out["t_arrive"][member, col] = res.crossing_time(2) * period
-    out["t_rest"][member, col] = res.t_end * period
-    ended[member, col] = np.isin(res.status, _STOP)
+    for j, mu in enumerate(mus):
+        if rows.size == 0:
+            break
+        dt, dy, y2, y3 = (a[rows] for a in dims[j])
+        vbar = out["vbar"][rows, j] / scale(spec, mu).unit("velocity")
+        budget = int(np.max(np.ceil(2.0 * spec.distance / length / (vbar * dt)))) + MAX_PERIODS
+        level = (x_d[rows] - spec.tolerance) / length
+        friction, ramp = friction_at(spec, mu), ramp_at(spec, mu)
+        choice = setting_method(dt, dy, y2, y3, ramp, StopZone(0.0, 1.0, float(cand.c_mu[rows[0]])), friction)
+        methods.add(choice.describe())
+        res = simulate_batch(setting_table(dt, dy, y2, y3, ramp, choice), -spec.distance / length, 0.0, 0.0,
+                             profile_index=np.arange(rows.size), x_mu=np.zeros(rows.size), w=np.ones(rows.size),
+                             c_mu=cand.c_mu[rows], levels=level[:, None], until="rest", max_periods=budget,
+                             friction=friction, method=choice.method, **choice.options)
+        period = cand.period[rows]
+        out["t_arrive"][rows, j] = res.crossing_time(2) * period
+        out["t_rest"][rows, j] = res.t_end * period
+        ended[rows, j] = np.isin(res.status, _STOP)
     return ended
 
 
@@ -371,7 +413,7 @@ def _failure(spec, i, out, stops, accumulates, within, process_stops, in_time, s
         worst = int(np.nanargmin(out["frac_accumulate"][i]))
         why = {1: "although the sufficient condition of Sect. 7.3 holds", 0: "the sufficient condition of Sect. 7.3 "
                "fails", -1: "eq. 59 does not apply"}[int(sufficient[i, worst])]
-        if spec.friction.kind != "coulomb":
+        if spec.friction.kind == "static_kinetic":
             why = f"static friction mu_s/mu_k = {spec.friction.ratio:g} > 1 leaves no accumulation"
         share = 100 * out["frac_accumulate"][i, worst]
         return f"{FAILURES[1]}: only {share:.0f} % accumulate at mu sample {worst} ({why})"
@@ -449,12 +491,14 @@ class Design:
 
     @property
     def assumptions(self) -> tuple[str, ...]:
-        """:data:`ASSUMPTIONS`, with the spec's friction law in place of Coulomb's."""
-        if self.spec.friction.kind == "coulomb":
-            return ASSUMPTIONS
-        law = (f"static/kinetic friction, mu_s = {self.spec.friction.ratio:g} mu_k, kinetic coefficient mu on the "
-               f"base and c_mu mu on the strip")
-        return (ASSUMPTIONS[0], law, *ASSUMPTIONS[2:])
+        """:data:`ASSUMPTIONS`, with the spec's friction law and profile in place of the paper's."""
+        law, ramp = self.spec.friction, self.spec.ramp
+        friction = ASSUMPTIONS[1] if law.kind == "coulomb" else (
+            f"{self.spec.effects().split('; ')[0]}, kinetic coefficient mu on the base and c_mu mu on the strip")
+        profile = ASSUMPTIONS[3] if ramp is None else (
+            f"the three-phase profile with y'' ramps of {1e3 * ramp:g} ms at each switch (finite jerk), no actuator "
+            f"dynamics")
+        return (ASSUMPTIONS[0], friction, ASSUMPTIONS[2], profile, *ASSUMPTIONS[4:])
 
     def profile_at(self, mu: float) -> ThreePhaseProfile:
         """The dimensionless profile the model sees at friction coefficient ``mu`` (L = width)."""
@@ -489,14 +533,19 @@ class Design:
             "entries: " + ", ".join(f"{100 * a:.0f} %" for a in v.frac_accumulate[0]),
             "sufficient condition of Sect. 7.3 per mu: "
             + ", ".join({1: "holds", 0: "fails", -1: "n/a"}[int(s)] for s in v.sufficient[0]),
-            f"guarantee: {'yes' if v.guaranteed[0] else 'NO (' + v.failure[0] + ')'}: every one of "
-            f"{self.search['entries']} steady-state entries at each of {v.mu.size} mu in "
-            f"[{v.mu[0]:.4g}, {v.mu[-1]:.4g}] ends at rest"
-            + (" by accumulation" if self.spec.accumulation else "")
+            ("guarantee: yes, every criterion holds" if v.guaranteed[0] else f"guarantee: NO, found: {v.failure[0]}")
+            + f". Criterion: every one of {self.search['entries']} steady-state entries at each of {v.mu.size} mu "
+            f"in [{v.mu[0]:.4g}, {v.mu[-1]:.4g}] ends at rest" + (" by accumulation" if self.spec.accumulation else "")
+            + f", within +-{1e6 * self.spec.tolerance:g} um, and the process run ends"
+            + ("" if self.spec.max_process_time is None else f" within {self.spec.max_process_time:g} s")
             + f"; closed forms at {DENSE_MU} mu; robustness margin +-{100 * self.margin:.0f} % of mu",
+            f"effects: {self.spec.effects()}; simulated with {v.method}",
             "assumes: " + "; ".join(self.assumptions),
-            f"search: {self.search['designs']} designs, {self.search['screened']} pass the closed forms, "
-            f"{self.search['verified']} simulated, {self.search['seconds']:.2g} s",
+            f"search: {self.search['designs']} designs"
+            + (f", {self.search['ramps_do_not_fit']} physical ones dropped (the ramps do not fit)" if self.spec.ramp
+               else "")
+            + f", {self.search['screened']} pass the closed forms (the paper's model: a heuristic ranking where "
+            f"effects are declared), {self.search['verified']} simulated, {self.search['seconds']:.2g} s",
         ]
         return "\n".join(lines)
 
@@ -580,6 +629,14 @@ def design(spec: DesignSpec, *, progress: str = "auto") -> Design:
                          f"got {type(spec).__name__}")
     start = time.perf_counter()
     cand = search_grid(spec)
+    designs = len(cand)
+    ramps_do_not_fit = 0
+    if spec.ramp is not None:  # the Appendix's constraints with ramps (scale-free, so in SI)
+        ramp = spec.ramp
+        fits = finite_jerk_times(cand.period, cand.stroke, cand.y2, cand.y3, ramp, ramp, ramp).valid
+        ramps_do_not_fit = int(np.count_nonzero(~fits & (three_phase_feasibility(cand.period, cand.stroke, cand.y2,
+                                                                                 cand.y3) <= 1.0)))
+        cand = cand.take(np.flatnonzero(fits))
     scr = screen(spec, cand)
     ok = np.flatnonzero(scr.ok)
     margin = np.full(len(cand), np.nan)
@@ -613,8 +670,8 @@ def design(spec: DesignSpec, *, progress: str = "auto") -> Design:
     front_tm = {"period": cand.period[ok][keep], "stroke": cand.stroke[ok][keep], "y2": cand.y2[ok][keep],
                 "y3": cand.y3[ok][keep], "c_mu": cand.c_mu[ok][keep], "t_estimate": scr.t_estimate[ok][keep],
                 "margin": margin[ok][keep]}
-    search = {"designs": len(cand), "screened": int(ok.size), "verified": verified, "entries": spec.grid.entries,
-              "seconds": time.perf_counter() - start}
+    search = {"designs": designs, "ramps_do_not_fit": ramps_do_not_fit, "screened": int(ok.size),
+              "verified": verified, "entries": spec.grid.entries, "seconds": time.perf_counter() - start}
     if chosen is None:
         merged = _merge([ver for _, ver in checked]) if checked else None
         best = checked[0][0][:1] if checked else None
@@ -649,13 +706,14 @@ def _settled(spec, chosen, following, scr, margin) -> bool:
 
 
 def _row(ver: Verification, i: int) -> Verification:
-    return Verification(**{k: (getattr(ver, k) if k == "mu" else
+    return Verification(**{k: (getattr(ver, k) if k in ("mu", "method") else
                                tuple(getattr(ver, k)[i:i + 1]) if k == "failure" else getattr(ver, k)[i:i + 1])
                            for k in Verification.__dataclass_fields__})
 
 
 def _merge(vers: list[Verification]) -> Verification:
     return Verification(**{k: (vers[0].mu if k == "mu" else
+                               "; ".join(sorted({v.method for v in vers})) if k == "method" else
                                sum((v.failure for v in vers), ()) if k == "failure" else
                                np.concatenate([getattr(v, k) for v in vers]))
                            for k in Verification.__dataclass_fields__})
@@ -735,13 +793,13 @@ def design_map(result: Design, *, refine: int = 1, entries: int = 32, progress: 
     physical = scr.physical
     case = np.zeros(y2.size, np.int8)
     grid = positioning_grid(*(d[physical] for d in dims), w=1.0, c_mu=result.c_mu, n_entries=entries,
-                            progress=progress, friction=spec.friction)
+                            progress=progress, friction=friction_at(spec, spec.mu), ramp=ramp_at(spec, spec.mu))
     case[physical] = grid.case
     frac = {key: np.full(y2.size, np.nan) for key in ("frac_accumulate", "frac_stop")}
     for key in frac:
         frac[key][physical] = getattr(grid, key)
     sufficient = np.full(y2.size, -1, np.int8)
-    for i in np.flatnonzero(case > 0) if spec.friction.kind == "coulomb" else ():  # as in verify
+    for i in np.flatnonzero(case > 0) if spec.friction.kind == "coulomb" and spec.ramp is None else ():  # as verify
         sufficient[i] = sufficient_condition(ThreePhaseProfile(*(float(d[i]) for d in dims)), result.c_mu)
     square = lambda a: a.reshape(n, n)  # noqa: E731
     return DesignMap(axis, axis, square(case), square(physical), square(scr.moves), square(scr.holds),

@@ -45,11 +45,12 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..model.errors import check_finite, check_positive
-from ..model.friction import FrictionLaw, StopZone
-from ..model.profiles import ThreePhaseProfile, three_phase_times
+from ..model.friction import FrictionLaw, StopZone, stick_limit, stick_limits
+from ..model.profiles import FiniteJerkProfile, ThreePhaseProfile, three_phase_times
 from ..progress import Progress, resolve_mode
-from ..solvers.driver import ProfileTable, simulate_batch
+from ..solvers.driver import ProfileTable, profile_table, simulate_batch
 from ..solvers.exact import piecewise_rows
+from ..solvers.methods import MethodChoice, most_exact_method, resolve
 from ..solvers.outcomes import STATUS_CODES, Status
 from ..solvers.records import EXACT_PIECEWISE
 from .classification import check_parameters
@@ -65,8 +66,11 @@ CHUNK_MEMBERS = 16_384
 MAX_PERIODS = 1000
 
 
-def _check_zone(w, c_mu, n_entries, offset, max_periods):
+def _check_zone(w, c_mu, n_entries, offset, max_periods, ramp):
     check_positive("w", w)
+    if not 0.0 <= check_finite("ramp", ramp):
+        raise ValueError(f"ramp must be >= 0 (the y'' ramp time of a finite-jerk profile; 0: the paper's), "
+                         f"got {ramp!r}")
     check_finite("c_mu", c_mu)
     if c_mu <= 1.0:
         raise ValueError(f"c_mu must be > 1 (a high-friction zone), got {c_mu!r}")
@@ -101,23 +105,45 @@ def three_phase_table(dt, dy, y2, y3) -> ProfileTable:
     return ProfileTable(piecewise_rows(breaks, accels), EXACT_PIECEWISE)
 
 
+def setting_profile(dt: float, dy: float, y2: float, y3: float, ramp: float):
+    """The paper's three-phase profile (``ramp`` 0) or its finite-jerk version with y'' ramps of time ``ramp``."""
+    return ThreePhaseProfile(dt, dy, y2, y3) if ramp == 0.0 else FiniteJerkProfile(dt, dy, y2, y3, ramp=ramp)
+
+
+def setting_method(dt, dy, y2, y3, ramp: float, surface, friction: FrictionLaw) -> MethodChoice:
+    """:func:`~selfalign.solvers.methods.most_exact_method` of the settings (flat arrays, at least one;
+    every setting is of one kind, so the first decides)."""
+    return most_exact_method(setting_profile(float(dt[0]), float(dy[0]), float(y2[0]), float(y3[0]), ramp),
+                             surface, friction)
+
+
+def setting_table(dt, dy, y2, y3, ramp: float, choice: MethodChoice) -> ProfileTable:
+    """Kernel profile table of the settings (flat arrays) for the method ``choice``: the vectorised
+    :func:`three_phase_table` for the exact solver without ramps, otherwise one row per profile."""
+    if ramp == 0.0 and choice.method == "exact":
+        return three_phase_table(dt, dy, y2, y3)
+    profiles = [setting_profile(*(float(a) for a in values), ramp) for values in zip(dt, dy, y2, y3)]
+    return profile_table(profiles, choice.method, 0.0, resolve(choice.method, choice.options))
+
+
 def _run_chunk(args):
-    """Simulate the entries of settings (flat arrays); per-entry arrays shaped (M, N)."""
-    dt, dy, y2, y3, v0, vbar, w, c_mu, n_entries, offset, max_periods, tol, levels, friction = args
+    """Simulate the entries of settings (flat arrays) with the method ``choice``; per-entry arrays shaped (M, N)."""
+    dt, dy, y2, y3, v0, vbar, w, c_mu, n_entries, offset, max_periods, tol, levels, friction, ramp, choice = args
     m = dt.size
-    table = three_phase_table(dt, dy, y2, y3)
+    table = setting_table(dt, dy, y2, y3, ramp, choice)
+    run = {"friction": friction, "method": choice.method, **choice.options}
     # Delta_x: the largest x over one steady period from x_s(0) = 0 (local maxima are v = 0 events).
     dx = simulate_batch(table, 0.0, v0, profile_index=np.arange(m), until="periods", periods=1,
-                        fast_forward=False, friction=friction).x_max if m else np.zeros(0)
+                        fast_forward=False, **run).x_max if m else np.zeros(0)
     frac = (np.arange(n_entries) + offset) / n_entries
     s = (vbar * dt)[:, None] * frac[None, :]
-    amax = np.maximum(y2, y3) / friction.ratio          # permanent stick needs mu_s mu_bar >= max|y''|
-    xs_rel = np.where(amax > c_mu, np.inf, w * (amax - 1.0) / (c_mu - 1.0))  # eq. (41)
+    # eq. (41): permanent stick needs mu_s mu_bar >= max|y''|
+    xs_rel = stick_limits(np.maximum(y2, y3) / friction.ratio, w, c_mu)
     lev = dx[:, None] + levels[None, :] * xs_rel[:, None]
     rep = lambda a: np.repeat(a, n_entries, axis=0)  # noqa: E731
     res = simulate_batch(table, -s.ravel(), rep(v0), profile_index=rep(np.arange(m)), x_mu=rep(dx), w=w,
                          c_mu=c_mu, levels=rep(lev), until="rest", max_periods=max_periods, accumulation_tol=tol,
-                         friction=friction)
+                         **run)
     per = lambda a: a.reshape((m, n_entries) + a.shape[1:])  # noqa: E731
     crossing = np.stack([res.crossing_time(j) for j in range(res.boundaries.shape[1])], axis=1)
     t_cross = per(crossing)
@@ -135,23 +161,27 @@ def _run_chunk(args):
 
 
 def _simulate_settings(dt, dy, y2, y3, w, c_mu, n_entries, offset, max_periods, tol, levels, processes, progress,
-                       friction):
-    """Steady state and entry runs for flat setting arrays; entry results for the moving ones,
-    reporting progress (:class:`selfalign.progress.Progress` mode ``progress``) per chunk.
-    Under static/kinetic friction the steady state (vbar, v0, f) is simulated (no closed form);
-    ``case`` stays that of the paper's Coulomb friction (Table 1)."""
+                       friction, ramp):
+    """Steady state, entry runs and the method used (its description; "" if nothing moves) for flat
+    setting arrays; entry results for the moving ones, reporting progress
+    (:class:`selfalign.progress.Progress` mode ``progress``) per chunk.  Under static/kinetic or
+    Stribeck friction or with y'' ramps the steady state (vbar, v0, f) is simulated (no closed form);
+    ``case`` stays that of the paper's Coulomb friction and profile (Table 1).  Entries run with the
+    most exact method that can simulate them (:func:`setting_method`)."""
     ss = steady_state_grid(dt, dy, y2, y3)
-    if friction.kind != "coulomb":
-        sim = three_phase_simulated_steady_state(dt, dy, y2, y3, progress="quiet", friction=friction)
+    if friction.kind != "coulomb" or ramp > 0.0:
+        sim = three_phase_simulated_steady_state(dt, dy, y2, y3, progress="quiet", friction=friction, ramp=ramp)
         ss = replace(ss, vbar=sim.vbar, v0=sim.v0, f=sim.f)
     moving = (ss.case > 0) & (ss.vbar > 0)
     idx = np.flatnonzero(moving)
+    choice = setting_method(dt[idx], dy[idx], y2[idx], y3[idx], ramp, StopZone(0.0, w, c_mu), friction) \
+        if idx.size else None
     per_chunk = max(1, CHUNK_MEMBERS // n_entries)
     parts = [idx[i:i + per_chunk] for i in range(0, idx.size, per_chunk)]
     if processes > 1 and len(parts) < processes and idx.size >= processes:
         parts = np.array_split(idx, processes)
     jobs = [(dt[p], dy[p], y2[p], y3[p], ss.v0[p], ss.vbar[p], w, c_mu, n_entries, offset, max_periods, tol,
-             levels, friction) for p in parts]
+             levels, friction, ramp, choice) for p in parts]
     parallel = processes > 1 and len(jobs) > 1
     outs = []
     with (ProcessPoolExecutor(max_workers=processes) if parallel else nullcontext()) as pool, \
@@ -161,10 +191,10 @@ def _simulate_settings(dt, dy, y2, y3, w, c_mu, n_entries, offset, max_periods, 
             bar.advance(int(part.size))
     if outs:
         runs = {key: np.concatenate([o[key] for o in outs]) for key in outs[0]}
-    else:
+    else:  # no setting moves: the empty arrays' shapes, from a run of no members with the paper's model
         runs = _run_chunk((dt[:0], dy[:0], y2[:0], y3[:0], ss.v0[:0], ss.vbar[:0], w, c_mu, n_entries,
-                           offset, max_periods, tol, levels, friction))
-    return ss, idx, runs
+                           offset, max_periods, tol, levels, FrictionLaw(), 0.0, MethodChoice("exact", {})))
+    return ss, idx, runs, "" if choice is None else choice.describe()
 
 
 @dataclass(frozen=True)
@@ -184,6 +214,7 @@ class Positioning:
     ``overshoot`` (NaN unless it stops), ``periods`` (end time in periods),
     ``zone_sticks``, ``first_stick_x`` (first stick at x >= x_mu), ``contraction``,
     ``entry_time`` (periods), ``entry_tau`` (phase of the first arrival at x_mu), ``entry_v``.
+    ``method``: the solver the entries ran with (:func:`setting_method`).
     """
 
     profile: ThreePhaseProfile
@@ -217,6 +248,7 @@ class Positioning:
     entry_time: np.ndarray
     entry_tau: np.ndarray
     entry_v: np.ndarray
+    method: str = ""
 
     @property
     def zone(self) -> StopZone:
@@ -240,34 +272,38 @@ def _summary(status, overshoot):
 
 def positioning(profile: ThreePhaseProfile, *, w: float, c_mu: float, n_entries: int = 64, offset: float = 0.5,
                 max_periods: int = MAX_PERIODS, accumulation_tol: float = 1e-12,
-                friction: FrictionLaw | None = None) -> Positioning:
+                friction: FrictionLaw | None = None, ramp: float = 0.0) -> Positioning:
     """Overshoot range, positioning error and outcome of every steady-state entry (Sect. 7.1).
 
-    ``friction``: a static/kinetic :class:`~selfalign.model.friction.FrictionLaw` (default:
-    the paper's Coulomb friction).  ValueError if the profile's steady state does not move
-    forward (vbar <= 0): then the mass never reaches the zone.
+    ``friction``: a :class:`~selfalign.model.friction.FrictionLaw` (default: the paper's Coulomb
+    friction); ``ramp``: y'' ramp time of the finite-jerk version of ``profile`` (0: the paper's).
+    The entries run with the exact solver where it can simulate them, otherwise with Moreau
+    (:func:`setting_method`; ``method`` of the result says which).  ValueError if the profile's
+    steady state does not move forward (vbar <= 0): then the mass never reaches the zone.
     """
     return _positioning(profile, w, c_mu, n_entries, offset, max_periods, accumulation_tol, np.empty(0),
-                        friction)[1]
+                        friction, ramp)[1]
 
 
 def _friction(friction) -> FrictionLaw:
     friction = FrictionLaw() if friction is None else friction
-    if not isinstance(friction, FrictionLaw) or friction.stribeck:
-        raise ValueError(f"friction must be a Coulomb or static/kinetic FrictionLaw (positioning runs the exact "
-                         f"batched solver, which has no Stribeck arcs), got {friction!r}")
+    if not isinstance(friction, FrictionLaw):
+        raise ValueError(f"friction must be a FrictionLaw, got {friction!r}")
     return friction
 
 
-def _positioning(profile, w, c_mu, n_entries, offset, max_periods, accumulation_tol, levels, friction=None):
+def _positioning(profile, w, c_mu, n_entries, offset, max_periods, accumulation_tol, levels, friction=None,
+                 ramp=0.0):
     """(per-entry runs of the one setting, Positioning) with the level crossings of ``levels``."""
     if not isinstance(profile, ThreePhaseProfile):
         raise ValueError(f"positioning needs a ThreePhaseProfile, got {type(profile).__name__}")
-    _check_zone(w, c_mu, n_entries, offset, max_periods)
+    _check_zone(w, c_mu, n_entries, offset, max_periods, ramp)
     arrays = [np.array([v]) for v in (profile.dt, profile.dy, profile.y2, profile.y3)]
-    ss, idx, runs = _simulate_settings(*arrays, float(w), float(c_mu), int(n_entries), float(offset),
-                                       int(max_periods), float(accumulation_tol), levels, 1, "quiet",
-                                       _friction(friction))
+    if ramp > 0.0:
+        setting_profile(*(float(a[0]) for a in arrays), float(ramp))  # raises if the ramps do not fit
+    ss, idx, runs, method = _simulate_settings(*arrays, float(w), float(c_mu), int(n_entries), float(offset),
+                                               int(max_periods), float(accumulation_tol), levels, 1, "quiet",
+                                               _friction(friction), float(ramp))
     if idx.size == 0:
         raise ValueError(f"the steady state of {profile!r} does not move forward (vbar = {float(ss.vbar[0])!r}, "
                          f"case {int(ss.case[0])}): the mass never reaches the zone")
@@ -285,6 +321,7 @@ def _positioning(profile, w, c_mu, n_entries, offset, max_periods, accumulation_
         overshoot=np.where(stops, r["overshoot"], np.nan), periods=r["periods"], zone_sticks=r["zone_sticks"],
         first_stick_x=x_mu + r["first_stick_x"],
         contraction=r["contraction"], entry_time=r["entry_time"], entry_tau=r["entry_tau"], entry_v=r["entry_v"],
+        method=method,
         **{key: summ[key] for key in ("overshoot_min", "overshoot_max", "dx_d", "frac_accumulate", "frac_stop",
                                       "frac_never_stop", "frac_undecided")},
     )
@@ -304,7 +341,7 @@ class PositioningGrid:
     (``level_from_start``), from the entry (``level_from_entry``), from the
     first zone stick (``level_from_first_stick``) and the number of zone
     sticks before it (``level_sticks``), shape (..., L).  NaN elsewhere.
-    ``events``: total solver events.
+    ``events``: total solver events; ``method``: the solver the entries ran with.
     """
 
     case: np.ndarray
@@ -329,20 +366,22 @@ class PositioningGrid:
     level_sticks: np.ndarray
     n_entries: int
     events: int
+    method: str = ""
 
 
 def positioning_grid(dt, dy, y2, y3, *, w: float, c_mu: float, n_entries: int = 64, offset: float = 0.5,
                      max_periods: int = MAX_PERIODS, accumulation_tol: float = 1e-12, levels=(),
-                     processes: int = 1, progress: str = "auto", friction: FrictionLaw | None = None
-                     ) -> PositioningGrid:
+                     processes: int = 1, progress: str = "auto", friction: FrictionLaw | None = None,
+                     ramp: float = 0.0) -> PositioningGrid:
     """:func:`positioning` for broadcast arrays of (dt, dy, y2, y3) with the batched solver
-    (``friction`` as in :func:`positioning`).
+    (``friction``, ``ramp`` and the method as in :func:`positioning`; settings whose ramps do not
+    fit count as not moving).
 
     ``levels``: fractions p in (0, 1) for the accumulation speed; ``processes``
     > 1 splits the settings over that many worker processes.  ``progress``: how the
     settings done are reported (:mod:`selfalign.progress`: "auto", "bar", "log", "quiet").
     """
-    _check_zone(w, c_mu, n_entries, offset, max_periods)
+    _check_zone(w, c_mu, n_entries, offset, max_periods, ramp)
     levels = _check_levels(levels) if np.size(levels) else np.empty(0)
     if int(processes) != processes or processes < 1:
         raise ValueError(f"processes must be an integer >= 1, got {processes!r}")
@@ -350,9 +389,9 @@ def positioning_grid(dt, dy, y2, y3, *, w: float, c_mu: float, n_entries: int = 
     arrays = check_parameters(dt, dy, y2, y3)
     shape = arrays[0].shape
     flat = [a.ravel() for a in arrays]
-    ss, idx, runs = _simulate_settings(*flat, float(w), float(c_mu), int(n_entries), float(offset),
-                                       int(max_periods), float(accumulation_tol), levels, int(processes), progress,
-                                       _friction(friction))
+    ss, idx, runs, method = _simulate_settings(*flat, float(w), float(c_mu), int(n_entries), float(offset),
+                                               int(max_periods), float(accumulation_tol), levels, int(processes),
+                                               progress, _friction(friction), float(ramp))
     size, nl = flat[0].size, levels.size
 
     def scatter(values, extra=()):
@@ -384,7 +423,7 @@ def positioning_grid(dt, dy, y2, y3, *, w: float, c_mu: float, n_entries: int = 
         level_from_entry=scatter(worst(lt - runs["entry_time"][:, :, None]), (nl,)),
         level_from_first_stick=scatter(worst(lt - runs["first_stick_time"][:, :, None]), (nl,)),
         level_sticks=scatter(worst(runs["level_sticks"].astype(float)), (nl,)),
-        n_entries=int(n_entries), events=int(runs["events"].sum()),
+        n_entries=int(n_entries), events=int(runs["events"].sum()), method=method,
         **{key: scatter(summ[key]) for key in ("overshoot_min", "overshoot_max", "dx_d", "frac_accumulate",
                                                "frac_stop", "frac_never_stop", "frac_undecided")},
     )
@@ -442,7 +481,7 @@ def map_iterations(profile: ThreePhaseProfile, *, w: float, c_mu: float, x_mu: f
     level is not reached within ``max_iter`` iterations.
     """
     p = _check_levels(p)
-    fixed = x_mu + w * (profile.y2 - 1.0) / (c_mu - 1.0)
+    fixed = x_mu + stick_limit(profile.y2, w, c_mu)
     target = x_mu + p * (fixed - x_mu)
     out = np.full(p.size, np.nan)
     x = x_mu

@@ -54,7 +54,8 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-from ..model.profiles import three_phase_times
+from ..model.friction import FrictionLaw, Uniform
+from ..model.profiles import finite_jerk_times, three_phase_times
 from ..progress import Progress, resolve_mode
 from ..solvers.driver import simulate_batch
 from ..solvers.outcomes import Reason, Status
@@ -217,16 +218,18 @@ def _moreau_period_map(profiles, steps_per_period: int, iteration: str, friction
     return period_map
 
 
-def _three_phase_period_map(dt, dy, y2, y3, friction=None):
-    """Period map of three-phase profiles (flat feasible arrays) from the batched exact solver
-    (``friction``: a static/kinetic :class:`~selfalign.model.friction.FrictionLaw`; default Coulomb)."""
-    from .positioning import three_phase_table
+def _three_phase_period_map(dt, dy, y2, y3, friction, ramp):
+    """Period map of three-phase profiles (flat arrays whose profiles exist) with y'' ramps of time
+    ``ramp`` (0: the paper's) from the batched solver the settings allow on a uniform surface
+    (:func:`~selfalign.analysis.positioning.setting_method`: exact, or Moreau for Stribeck friction)."""
+    from .positioning import setting_method, setting_table
 
-    table = three_phase_table(dt, dy, y2, y3)
+    choice = setting_method(dt, dy, y2, y3, ramp, Uniform(), friction)
+    table = setting_table(dt, dy, y2, y3, ramp, choice)
 
     def period_map(index, v):
         res = simulate_batch(table, 0.0, v, profile_index=index, until="periods", periods=1, fast_forward=False,
-                             friction=friction)
+                             friction=friction, method=choice.method, **choice.options)
         if np.any(res.reason == Reason.MAX_EVENTS):
             raise RuntimeError("batched exact solver failed on a three-phase profile")
         return res.v_end, res.records["xi"]        # x0 = 0: the end position is the displacement
@@ -273,23 +276,26 @@ def simulated_steady_state(profiles, method: str = "exact", *, steps_per_period:
 
 
 def three_phase_simulated_steady_state(dt, dy, y2, y3, *, rtol: float = RTOL, progress: str = "auto",
-                                       friction=None) -> SimulatedSteadyState:
-    """Simulated steady state of three-phase profiles (broadcast arrays; NaN for case 0) with the
-    batched exact solver and :func:`iterate_to_steady_state` (reporting to ``progress``),
-    independent of the closed forms.  ``friction``: a static/kinetic
-    :class:`~selfalign.model.friction.FrictionLaw` (default Coulomb), for which no closed form
-    exists: a stick lasts while |y''| <= mu_s / mu_k, which moves every phase of Sect. 5."""
+                                       friction=None, ramp: float = 0.0) -> SimulatedSteadyState:
+    """Simulated steady state of three-phase profiles (broadcast arrays; NaN for case 0 and where
+    ramps of time ``ramp`` do not fit) with the batched exact solver (Moreau where it cannot:
+    Stribeck friction) and :func:`iterate_to_steady_state` (reporting to ``progress``),
+    independent of the closed forms.  ``friction``: a :class:`~selfalign.model.friction.FrictionLaw`
+    (default Coulomb), for which no closed form exists: a stick lasts while |y''| <= mu_s / mu_k,
+    which moves every phase of Sect. 5; ``ramp``: the finite-jerk profile's y'' ramp time."""
     resolve_mode(progress)
+    friction = FrictionLaw() if friction is None else friction
     arrays = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (dt, dy, y2, y3)))
     shape = arrays[0].shape
     dt, dy, y2, y3 = (a.ravel() for a in arrays)
     times = three_phase_times(dt, dy, y2, y3)
-    ok = np.flatnonzero(times.feasible)
+    exists = times.feasible if ramp == 0.0 else finite_jerk_times(dt, dy, y2, y3, ramp, ramp, ramp).valid
+    ok = np.flatnonzero(exists)
     out = {key: np.full(dt.size, np.nan) for key in ("vbar", "v0", "residual")}
     periods, cycle = np.zeros(dt.size, dtype=np.int64), np.ones(dt.size, dtype=np.int64)
     if ok.size:
         swing = y2[ok] * (times.t2[ok] - times.t1[ok])   # max y' - min y' (eq. 63)
-        res = iterate_to_steady_state(_three_phase_period_map(dt[ok], dy[ok], y2[ok], y3[ok], friction),
+        res = iterate_to_steady_state(_three_phase_period_map(dt[ok], dy[ok], y2[ok], y3[ok], friction, ramp),
                                       swing, dt[ok], rtol=rtol, progress=progress)
         for key in out:
             out[key][ok] = getattr(res, key)

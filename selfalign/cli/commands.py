@@ -286,8 +286,9 @@ def design_command(spec_file: Path, output: Path | None, as_json: bool) -> int:
     """Search the three-phase profiles (Sect. 4.4.3) inside the actuator's limits of a design spec
     (SI units) for the least process time or the largest mu margin, and certify the choice: at
     every mu sample every steady-state entry into the strip ends at rest (or accumulates, eq. 41
-    and Sect. 7.3), simulated with the batched exact solver.  Exit code 1 if no design meets
-    the spec; the report then says which constraint binds."""
+    and Sect. 7.3), simulated with the batched exact solver, or Moreau where the spec's effects
+    (Stribeck friction, y'' ramps) need it.  Exit code 1 if no design meets the spec; the report
+    then says which constraint binds."""
     result = design(load_design_spec(spec_file))
     if as_json:
         click.echo(json.dumps(design_summary(result), indent=2))

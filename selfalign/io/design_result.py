@@ -2,7 +2,8 @@
 
 Everything is in SI units (``units`` m, s, m/s, m/s^2; :mod:`selfalign.io.quantities`).
 Root attributes: ``spec`` (the spec as a mapping), ``found``, ``explanation``, ``report``
-(the text the command line prints), ``assumptions``, ``case``, ``case_label``, ``search``.
+(the text the command line prints), ``assumptions``, ``case``, ``case_label``, ``search``,
+``effects`` (beyond the paper's model, in words) and ``method`` (the solver of the guarantee).
 Groups: ``profile`` and ``performance`` (scalars of the chosen design), ``verification``
 (per mu sample), ``front_time_error`` and ``front_time_margin`` (the trade-offs) and,
 when given, ``map`` (:func:`selfalign.analysis.design.design_map`).
@@ -27,7 +28,9 @@ def design_content(design, design_map=None) -> tuple[dict, dict, dict]:
     spec = {**asdict(design.spec), "friction": design.spec.friction.params()}
     attrs = {"spec": spec, "found": bool(design.found), "explanation": design.explanation,
              "report": design.report(), "assumptions": list(design.assumptions), "case": int(design.case),
-             "case_label": design.case_label if design.case else "", "search": dict(design.search)}
+             "case_label": design.case_label if design.case else "", "search": dict(design.search),
+             "effects": design.spec.effects(),
+             "method": "" if design.verification is None else design.verification.method}
     groups = {"front_time_error": {"datasets": {k: np.asarray(v) for k, v in design.front_time_error.items()}},
               "front_time_margin": {"datasets": {k: np.asarray(v) for k, v in design.front_time_margin.items()}}}
     if design.verification is not None:

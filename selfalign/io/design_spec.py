@@ -62,7 +62,7 @@ def design_spec_from_dict(data, source: str = "<design>", name: str | None = Non
             tolerance=task["tolerance"], accumulation=task.get("accumulation", False),
             objective=task.get("objective", "process_time"), max_process_time=task.get("max_process_time"),
             name=data.get("name", name or "design"), grid=DesignGrid(**data.get("search", {})),
-            friction=FrictionLaw(**data.get("friction", {})),
+            friction=FrictionLaw(**data.get("friction", {})), ramp=actuator.get("ramp"),
         )
     except ValueError as exc:
         raise DesignSpecError(f"{source}: {exc}") from None

@@ -52,8 +52,10 @@ class DesignSpec:
     ``accumulation``: require Delta_x_d = 0 (every entry accumulates at x_stick_min);
     ``objective``: "process_time" (least worst-case process time) or "robustness" (largest
     mu margin with a worst-case process time <= ``max_process_time``); ``friction``: the
-    friction law (the paper's Coulomb friction or static/kinetic with mu_s = r mu_k on base and
-    strip alike; not Stribeck: the guarantee simulates with the exact batch solver).
+    friction law on base and strip alike (the paper's Coulomb friction, static/kinetic with
+    mu_s = r mu_k, or Stribeck with its ``v_s`` in m/s, made dimensionless at each mu);
+    ``ramp``: the time [s] over which y'' ramps linearly at each switch of the three-phase
+    profile (finite jerk; None: the paper's jumps).
     """
 
     mu: float
@@ -73,14 +75,13 @@ class DesignSpec:
     min_stroke: float | None = None
     grid: DesignGrid = field(default_factory=DesignGrid)
     friction: FrictionLaw = field(default_factory=FrictionLaw)
+    ramp: float | None = None
 
     def __post_init__(self):
         if not isinstance(self.friction, FrictionLaw):
             raise ValueError(f"friction must be a FrictionLaw, got {type(self.friction).__name__}")
-        if self.friction.stribeck:
-            raise ValueError("friction.kind stribeck is not supported by the design tool: its guarantee simulates "
-                             "every entry with the exact batch solver, which has no Stribeck arcs; allowed kinds: "
-                             "coulomb, static_kinetic")
+        if self.ramp is not None:
+            check_positive("actuator.ramp", self.ramp)
         for key in ("mu", "width", "max_stroke", "max_acceleration", "distance", "tolerance", "g"):
             check_positive(key, getattr(self, key))
         if self.min_stroke is not None and not 0.0 < check_finite("min_stroke", self.min_stroke) <= self.max_stroke:
@@ -94,6 +95,9 @@ class DesignSpec:
         p_low, p_high = (check_positive("period", p) for p in self.period)
         if p_low > p_high:
             raise ValueError(f"period must satisfy low <= high, got {self.period!r}")
+        if self.ramp is not None and 3.0 * self.ramp >= p_high:
+            raise ValueError(f"actuator.ramp must be shorter than a third of the longest period ({p_high:g} s: three "
+                             f"ramps per period), got {self.ramp!r}")
         if self.objective not in OBJECTIVES:
             raise ValueError(f"objective must be one of {', '.join(OBJECTIVES)}, got {self.objective!r}")
         if self.objective == "robustness" and self.max_process_time is None:
@@ -127,7 +131,19 @@ class DesignSpec:
                 f"w = {1e3 * self.width:g} mm, stroke {stroke} mm, |y''| <= "
                 f"{self.max_acceleration:g} m/s^2, f = {f_lo:.4g}..{f_hi:.4g} Hz, distance {1e3 * self.distance:g} mm, "
                 f"tolerance {1e6 * self.tolerance:g} um{', accumulation' if self.accumulation else ''}"
-                + (f", mu_s/mu_k = {self.friction.ratio:g}" if self.friction.kind != "coulomb" else ""))
+                + (f", {self.effects()}" if self.effects() != "none" else ""))
+
+    def effects(self) -> str:
+        """The effects beyond the paper's model this spec declares, in words ("none" for the paper's model)."""
+        parts = []
+        if self.friction.kind == "static_kinetic":
+            parts.append(f"static/kinetic friction mu_s/mu_k = {self.friction.ratio:g}")
+        elif self.friction.stribeck:
+            parts.append(f"Stribeck friction mu_s/mu_k = {self.friction.ratio:g}, v_s = {1e3 * self.friction.v_s:g} "
+                         f"mm/s, delta = {self.friction.delta:g}")
+        if self.ramp is not None:
+            parts.append(f"finite jerk: y'' ramps over {1e3 * self.ramp:g} ms at each switch")
+        return "; ".join(parts) or "none"
 
 
 def period_from_frequency(low_hz: float, high_hz: float) -> tuple[float, float]:

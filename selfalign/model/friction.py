@@ -6,7 +6,7 @@ relative to the start of the high-friction region, xi = x - x_mu.
 
 The scalar formulas (:func:`coefficient`, :func:`decide_mode`, :func:`stick_limit`,
 :func:`stribeck_factor`) are the only place the friction law is written; the classes
-below and the compiled event kernel call them.
+below, :data:`stick_limits` (elementwise) and the compiled event kernel call them.
 
 The field mu_bar(x) is the kinetic coefficient.  A :class:`FrictionLaw` adds what the
 paper leaves out (issue 16): a static coefficient mu_s = r mu_k (r = ``mu_s_over_mu_k``
@@ -79,6 +79,10 @@ def stick_limit(max_acceleration: float, w: float, c_mu: float) -> float:
     if max_acceleration > c_mu:
         return math.inf
     return w * (max_acceleration - 1.0) / (c_mu - 1.0)
+
+
+#: :func:`stick_limit` elementwise on broadcast arrays (the design search and the positioning grid).
+stick_limits = np.vectorize(stick_limit, otypes=[float])
 
 
 class Uniform:

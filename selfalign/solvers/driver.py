@@ -419,7 +419,7 @@ def simulate_batch(profiles, x0, v0=0.0, phase=0.0, *, profile_index=None, surfa
     phase = _member_array("phase", phase, size)
     if np.any((phase < 0.0) | (phase >= 1.0)):
         raise ValueError("phase must lie in [0, 1) (fraction of the period)")
-    if method == "moreau" and np.ptp(phase) > 0.0:
+    if method == "moreau" and phase.size and np.ptp(phase) > 0.0:
         raise ValueError("method 'moreau' in a batch needs one phase for every member")
     if isinstance(surface, StopZone):
         x_mu, w, c_mu = surface.x_mu, surface.w, surface.c_mu

@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 import numbers
 from dataclasses import dataclass, field
+from types import SimpleNamespace
 from typing import Callable
 
 from ..model.friction import StopZone
@@ -185,3 +186,39 @@ def moreau_step(dt: float, options: dict) -> tuple[int, float]:
             raise ValueError("options h and steps_per_period exclude each other; give one")
         return steps_per_period(dt, dt / options["steps_per_period"])
     return steps_per_period(dt, options.get("h"))
+
+
+#: Moreau steps per period when the exact solver cannot simulate a scene (:func:`most_exact_method`):
+#: h = dt / 2000, first order, so end positions carry an error of order h^2 (tests/test_design_effects.py
+#: checks a design's guarantee against Moreau at a 4x finer step).
+FALLBACK_STEPS_PER_PERIOD = 2000
+
+
+@dataclass(frozen=True)
+class MethodChoice:
+    """The method an analysis runs (``method``, ``options`` for it) and, when it is not the exact
+    solver, why (``refusal``: the exact solver's own message)."""
+
+    method: str
+    options: dict
+    refusal: str = ""
+
+    def describe(self) -> str:
+        """One line: "exact" or "moreau (h = dt / N, iteration exact)"."""
+        if self.method == "exact":
+            return "exact (event-driven, closed-form arcs)"
+        return (f"moreau (h = dt / {self.options['steps_per_period']}, iteration {self.options['iteration']}): "
+                f"the exact solver refuses the scene")
+
+
+def most_exact_method(profile, surface, friction) -> MethodChoice:
+    """The exact solver if it can simulate ``profile`` on ``surface`` under the
+    :class:`~selfalign.model.friction.FrictionLaw` ``friction``, otherwise Moreau time-stepping
+    with :data:`FALLBACK_STEPS_PER_PERIOD` steps per period and the implicit step solved exactly
+    (the only iteration that handles Stribeck friction).  The refusals are the methods' own
+    (:data:`METHODS`, :func:`friction_refused`), so this follows them as they change."""
+    scene = SimpleNamespace(profile=profile, surface=surface, friction=friction)
+    refusal = METHODS["exact"].refuses(scene) or friction_refused("exact", friction, {})
+    if refusal is None:
+        return MethodChoice("exact", {})
+    return MethodChoice("moreau", {"steps_per_period": FALLBACK_STEPS_PER_PERIOD, "iteration": "exact"}, refusal)
