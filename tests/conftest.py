@@ -135,7 +135,7 @@ def small_config(repo: Path) -> dict:
     j["ramp_fractions"] = [0.0, 0.05]
     for plane in j["steady"].values():
         plane.update(y2=axis(plane["y2"]["from"], plane["y2"]["to"]), y3=axis(plane["y3"]["from"], plane["y3"]["to"]))
-    j["stopping"].update(y2=axis(2.0, 2.4), y3=axis(1.0, 1.4), n_entries=2, steps_per_period=200, max_periods=200)
+    j["stopping"].update(y2=axis(2.0, 2.4), y3=axis(1.0, 1.4), n_entries=2, max_periods=200)
     return config
 
 

@@ -253,32 +253,32 @@ def test_simulated_case_and_vbar_reproduce_table1_at_zero_ramp():
 
 
 @pytest.mark.parametrize("y2, y3", [(2.3, 1.3), (1.8, 1.1)])
-def test_moreau_stopping_matches_exact_positioning_at_zero_ramp(y2, y3):
-    """analysis.finite_jerk.stopping (Moreau, dt/10^4) against sa.positioning (exact) on the paper's
-    profile: the same fraction of entries accumulates and Delta x_d agrees to 1e-4 absolute (one
-    accumulating setting of Fig. 17, one that stops at rest)."""
+def test_stopping_at_zero_ramp_is_the_paper_positioning(y2, y3):
+    """analysis.finite_jerk.stopping (exact solver) against sa.positioning (exact, its own entry
+    placement) on the paper's profile: the same fraction of entries accumulates and Delta x_d
+    agrees to 1e-12 (one accumulating setting of Fig. 17, one that stops at rest)."""
     from selfalign.analysis.finite_jerk import stopping
 
     profile = sa.ThreePhaseProfile(1.0, 0.084, y2, y3)
     exact = sa.positioning(profile, w=0.05, c_mu=2.5, n_entries=16)
-    moreau = stopping(profile, w=0.05, c_mu=2.5, n_entries=16)
-    assert moreau.frac_accumulate == exact.frac_accumulate
-    assert abs(moreau.dx_d - exact.dx_d) <= 1e-4
+    ours = stopping(profile, w=0.05, c_mu=2.5, n_entries=16)
+    assert ours.frac_accumulate == exact.frac_accumulate
+    assert abs(ours.dx_d - exact.dx_d) <= 1e-12
 
 
 def test_ramps_create_accumulation_where_the_paper_has_none_and_ivp_agrees():
     """The finding of README "Finite jerk" at one cell of the Fig. 17 plane (y2'' = 1.8, y3'' = 1.5):
     with the paper's profile no entry accumulates (exact positioning), with ramps of 5 % of dt 3 of 16
-    do, and solve_ivp, run entry by entry, gives the same outcomes as Moreau."""
+    do, and solve_ivp, run entry by entry, gives the same outcomes as the exact solver."""
     from selfalign.analysis.finite_jerk import jerk_profile, stopping
 
     assert sa.positioning(sa.ThreePhaseProfile(1.0, 0.084, 1.8, 1.5), w=0.05, c_mu=2.5,
                           n_entries=16).frac_accumulate == 0.0
     ramped = jerk_profile(1.0, 0.084, 1.8, 1.5, 0.05)
-    moreau = stopping(ramped, w=0.05, c_mu=2.5)
+    exact = stopping(ramped, w=0.05, c_mu=2.5)
     ivp = stopping(ramped, w=0.05, c_mu=2.5, method="ivp")
-    assert moreau.frac_accumulate == ivp.frac_accumulate == 3 / 16
-    assert moreau.frac_rest == ivp.frac_rest
+    assert exact.frac_accumulate == ivp.frac_accumulate == 3 / 16
+    assert exact.frac_rest == ivp.frac_rest
 
 
 def test_stage_result_reads_back_into_the_grids_and_the_figure(tmp_path):
@@ -298,7 +298,7 @@ def test_stage_result_reads_back_into_the_grids_and_the_figure(tmp_path):
     steady = {"fig10": {"dt": 0.072, "dy": 0.021, "y2": axis(200.0, 1500.0), "y3": axis(50.0, 300.0)},
               "fig11": {"dt": 1.38, "dy": 0.064, "y2": axis(1.0, 3.0), "y3": axis(0.5, 3.0)}}
     stop = {"dt": 1.0, "dy": 0.084, "y2": axis(1.8, 2.3), "y3": axis(1.3, 1.5), "n_entries": 2,
-            "steps_per_period": 500, "max_periods": 300}
+            "max_periods": 300}
     zone = {"w": 0.05, "c_mu": 2.5}
     path = write_h5(tmp_path / "finite_jerk.h5", *finite_jerk_results(fractions, steady, stop, zone, progress="quiet"))
     result = read_h5(path)
@@ -310,7 +310,7 @@ def test_stage_result_reads_back_into_the_grids_and_the_figure(tmp_path):
         for field in ("ramp_fractions", "y2", "y3", "vbar", "case"):
             assert np.array_equal(getattr(planes[name], field), getattr(direct, field), equal_nan=True), field
     direct = stopping_grid(1.0, 0.084, [1.8, 2.3], [1.3, 1.5], fractions, w=0.05, c_mu=2.5, n_entries=2,
-                           steps_per_period=500, max_periods=300, progress="quiet")
+                           max_periods=300, progress="quiet")
     for field in ("y2", "y3", "frac_accumulate", "frac_rest", "dx_d"):
         assert np.array_equal(getattr(stopping, field), getattr(direct, field), equal_nan=True), field
     fig = draw("finite_jerk", [result])

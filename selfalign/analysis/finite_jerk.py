@@ -9,8 +9,8 @@ The three-phase profile with y'' ramps of time tau at each switch
   off one steady period: the modes its arcs take (:func:`steady_case`).
 * :func:`stopping`: the outcome of n_entries steady-state entries into a stop zone
   (Sect. 7.1, placed as :mod:`selfalign.analysis.positioning` places them) and the
-  positioning error Delta x_d (eq. 39), with Moreau time-stepping: the exact solver has no
-  arcs for a ramped y'' on a stop zone.
+  positioning error Delta x_d (eq. 39), with the exact solver (its jerk arcs on the zone,
+  README "Finite jerk"), or Moreau time-stepping under Stribeck friction.
 """
 
 from __future__ import annotations
@@ -25,6 +25,7 @@ from ..model.profiles import RAMPS_TOO_LONG, FiniteJerkProfile, ThreePhaseProfil
 from ..model.scene import Record, Scene
 from ..progress import Progress, resolve_mode
 from ..solvers.driver import simulate, simulate_batch
+from ..solvers.methods import most_exact_method
 from ..solvers.outcomes import STATUS_CODES, Status
 from .steady_simulation import exact_steady_state, simulated_steady_state
 
@@ -109,12 +110,13 @@ class Stopping:
 
 
 def stopping(profile, *, w: float, c_mu: float, n_entries: int = 16, steps_per_period: int = 10_000,
-             max_periods: int = 1000, offset: float = 0.5, method: str = "moreau",
+             max_periods: int = 1000, offset: float = 0.5, method: str = "batch",
              friction: FrictionLaw | None = None) -> Stopping:
-    """Steady-state entries into a stop zone (module docstring), Moreau with ``steps_per_period``
-    (batched), or ``method="ivp"`` (solve_ivp at its default tolerances, one run per entry: slow,
-    the cross-check), under the :class:`~selfalign.model.friction.FrictionLaw` ``friction``
-    (default: the paper's Coulomb law).
+    """Steady-state entries into a stop zone (module docstring), batched with the most exact
+    method that takes the scene (:func:`~selfalign.solvers.methods.most_exact_method`: the exact
+    solver, or Moreau with ``steps_per_period`` under Stribeck friction), or ``method="ivp"``
+    (solve_ivp at its default tolerances, one run per entry: slow, the cross-check), under the
+    :class:`~selfalign.model.friction.FrictionLaw` ``friction`` (default: the paper's Coulomb law).
 
     The steady state (uniform surface: exact solver under Coulomb friction, else Moreau with
     ``steps_per_period``, since the exact solver has no Stribeck arcs) gives vbar and the
@@ -127,8 +129,8 @@ def stopping(profile, *, w: float, c_mu: float, n_entries: int = 16, steps_per_p
     check_positive("w", w)
     check_positive("c_mu", c_mu)
     n_entries = check_integer("n_entries", n_entries)
-    if method not in ("moreau", "ivp"):
-        raise ValueError(f"method must be 'moreau' or 'ivp', got {method!r}")
+    if method not in ("batch", "ivp"):
+        raise ValueError(f"method must be 'batch' or 'ivp', got {method!r}")
     friction = FrictionLaw() if friction is None else friction
     if friction.kind == "coulomb":
         state = exact_steady_state(profile, aperiodic="average")
@@ -146,9 +148,11 @@ def stopping(profile, *, w: float, c_mu: float, n_entries: int = 16, steps_per_p
     x_mu = float(np.max(period.series["x"]))        # the largest x is at a v = 0 event, which is sampled
     x0 = -vbar * profile.dt * (np.arange(n_entries) + offset) / n_entries
     zone = StopZone(x_mu, w, c_mu)
-    if method == "moreau":
+    if method == "batch":
+        choice = most_exact_method(profile, zone, friction)
+        options = {"steps_per_period": steps_per_period, "iteration": "exact"} if choice.method == "moreau" else {}
         res = simulate_batch(profile, x0, v0, surface=zone, until="rest", max_periods=max_periods,
-                             method="moreau", steps_per_period=steps_per_period, friction=friction)
+                             method=choice.method, friction=friction, **options)
         codes, x_end = np.asarray(res.status), res.x_end
     else:
         runs = [simulate(Scene(profile, surface=zone, x0=float(x), v0=v0, until="rest", max_periods=max_periods,
@@ -177,7 +181,7 @@ class StoppingGrid:
 
 
 def stopping_grid(dt: float, dy: float, y2, y3, ramp_fractions, *, w: float, c_mu: float, n_entries: int = 16,
-                  steps_per_period: int = 10_000, max_periods: int = 1000, progress: str = "auto") -> StoppingGrid:
+                  max_periods: int = 1000, progress: str = "auto") -> StoppingGrid:
     """:func:`stopping` over the grid y2 x y3 (1-D axes) for every ramp fraction of the period."""
     y2, y3, fractions = (np.asarray(a, dtype=float) for a in (y2, y3, ramp_fractions))
     if y2.ndim != 1 or y3.ndim != 1 or fractions.ndim != 1:
@@ -191,8 +195,7 @@ def stopping_grid(dt: float, dy: float, y2, y3, ramp_fractions, *, w: float, c_m
             if profile is not None and profile is not RAMPS_TOO_LONG:
                 vbar, case = steady_case(profile)
                 if vbar > 0.0:
-                    result = stopping(profile, w=w, c_mu=c_mu, n_entries=n_entries, steps_per_period=steps_per_period,
-                                      max_periods=max_periods)
+                    result = stopping(profile, w=w, c_mu=c_mu, n_entries=n_entries, max_periods=max_periods)
                     out["frac_accumulate"][index] = result.frac_accumulate
                     out["frac_rest"][index] = result.frac_rest
                     out["dx_d"][index] = result.dx_d

@@ -23,7 +23,7 @@ def finite_jerk_results(ramp_fractions, steady: Mapping[str, Mapping], stopping:
     """(datasets, attrs, groups) of results/finite_jerk/finite_jerk.h5.
 
     ``steady``: plane name -> {dt, dy, y2, y3} (config ranges); ``stopping``: {dt, dy, y2, y3,
-    n_entries, steps_per_period, max_periods}; ``zone``: {w, c_mu}.  Every grid has the axes
+    n_entries, max_periods}; ``zone``: {w, c_mu}.  Every grid has the axes
     (ramp fractions, y2'', y3'').
     """
     fractions = np.asarray(ramp_fractions, dtype=float)
@@ -36,7 +36,7 @@ def finite_jerk_results(ramp_fractions, steady: Mapping[str, Mapping], stopping:
                                         "attrs": {"dt": plane["dt"], "dy": plane["dy"]}}
     grid = stopping_grid(stopping["dt"], stopping["dy"], range_values(stopping["y2"]), range_values(stopping["y3"]),
                          fractions, w=zone["w"], c_mu=zone["c_mu"], n_entries=stopping["n_entries"],
-                         steps_per_period=stopping["steps_per_period"], max_periods=stopping["max_periods"],
+                         max_periods=stopping["max_periods"],
                          progress=progress)
     groups["stopping"] = {"datasets": {"y2": grid.y2, "y3": grid.y3, "frac_accumulate": grid.frac_accumulate,
                                        "frac_rest": grid.frac_rest, "dx_d": grid.dx_d},
