@@ -60,6 +60,8 @@ from .outcomes import HIGH, LOW, MAX_CYCLE, STALL_EVENTS, ZONE, EventKind, Reaso
 
 #: Kernel stepper results the ivp loop produces (see :mod:`selfalign.solvers.kernel`).
 _DONE, _STOP_BUDGET, _STOP_STALL = 0, 4, 5
+#: The slip modes a stick can end in, in the order of the stick's exit events.
+_SLIP_MODES = (-1, 1)
 
 
 def _event(fun, direction):
@@ -231,24 +233,36 @@ class _Run:
         mu = self.law.ratio * self.mu_bar(x)          # the static limit
         sol = solve_ivp(lambda t, y: (0.0, 0.0), (tau_a, tau_b), [x, 0.0], method=self.integrator,
                         rtol=self.rtol, atol=self.atol, max_step=self.stick_max_step,
-                        events=[_event(lambda t, y: self.acceleration(t) - mu, 1),
-                                _event(lambda t, y: self.acceleration(t) + mu, -1)])
+                        events=[_event(self.stick_exit(mu, mode), 1) for mode in _SLIP_MODES])
         self.count(sol)
         if sol.status == -1:
             return Reason.SOLVER_FAILED, f"solve_ivp failed in stick at period {self.p}, tau {tau_a!r}: {sol.message}"
         self.moved(x, x)
         if sol.status == 1:
             which = 0 if sol.t_events[0].size else 1
-            # The root may sit an ulp before the crossing; slip starts where |y''| > mu_bar.
-            tau_e = _first_time(float(sol.t_events[which][0]), tau_b, lambda t: abs(self.acceleration(t)) > mu)
+            # The root may sit an ulp before the crossing; slip starts where the model's rule says slip.
+            tau_e = _first_time(float(sol.t_events[which][0]), tau_b,
+                                lambda t: decide_mode(self.acceleration(t), mu) != 0)
             self.sample(tau_a, tau_e, lambda g: (np.full(g.size, x), np.zeros(g.size)))
-            self.mode = -1 if which == 0 else 1
+            self.mode = _SLIP_MODES[which]
             self.set_time(tau_e)
             self.log(EventKind.SLIP, 0)
             self.record_event_sample()
             return _DONE
         self.sample(tau_a, tau_b, lambda g: (np.full(g.size, x), np.zeros(g.size)))
         return self.finish_piece(tau_b, None)
+
+    def stick_exit(self, mu, mode):
+        """The event function of a stick ending in slip ``mode`` (-1 or 1) at the static limit ``mu``:
+        -mode y'' - mu, positive exactly where the model's rule (:func:`decide_mode`) says slip in
+        ``mode``.  solve_ivp takes a zero for a crossing, so where the rule says stick the value is
+        kept below 0: a |y''| that equals mu to rounding (a plateau on x_stick_min) holds the stick,
+        as it does in the exact solver, instead of slipping for an ulp and sticking again."""
+        def exit_value(t, y):
+            a = self.acceleration(t)
+            value = -mode * a - mu
+            return value if decide_mode(a, mu) == mode else min(value, -math.ulp(0.0))
+        return exit_value
 
     def slip(self, tau_a, tau_b, stick):
         from scipy.integrate import solve_ivp
