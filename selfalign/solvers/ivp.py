@@ -30,6 +30,9 @@ no stage inside it (its error estimate would see mu_k only and accept an error f
 At v = 0 the mode is decided like the model (:func:`selfalign.model.friction.decide_mode`),
 at the first time (at most 64 ulps on) where it differs from the slip that just ended: a slip
 shorter than an ulp of t ends at its own start time, where the model still says slip.
+A stick ends by the same rule: its exit events are positive exactly where decide_mode says
+slip, so a |y''| equal to r mu_bar to rounding (a plateau at x_stick_min) holds the stick as in
+the exact solver, where a plain |y''| - r mu_bar, zero there, would be a crossing to solve_ivp.
 A slip whose v passes through 0 and back within one step is not seen (solve_ivp locates
 events by sign changes at step ends): on the grazing Fourier profile of tests/test_studies.py
 a reversal is stepped over once in 12 periods at every rtol from 1e-8 to 1e-13.
@@ -43,8 +46,11 @@ finite tolerance rarely repeats a period-boundary state to the driver's toleranc
 periodic motion inside the zone usually ends with HORIZON (reason BOUNDED) here.  The
 event budget ``max_events`` bounds an accumulation, whose infinitely many ever shorter
 slips event location cannot resolve (ERROR, reason MAX_EVENTS), and a stalled event loop
-is an ERROR too.  Dense output samples solve_ivp's dense output on a uniform grid of
-``samples_per_period`` points per period from the start time, plus every event.
+is an ERROR too (reason STALL): more than STALL_EVENTS successive events, each within
+STALL_ULPS ulp of dt of the one before, as a mode chattering in ulp-long steps makes (the tie
+rule prevents it; the guard bounds the work should it break).  Dense output samples solve_ivp's
+dense output on a uniform grid of ``samples_per_period`` points per period from the start time,
+plus every event.
 """
 
 from __future__ import annotations
@@ -56,10 +62,12 @@ import numpy as np
 from ..model.friction import StopZone, coefficient, decide_mode, stribeck_factor
 from . import records as R
 from .jit import call, kernel
-from .outcomes import HIGH, LOW, MAX_CYCLE, STALL_EVENTS, ZONE, EventKind, Reason
+from .outcomes import HIGH, LOW, MAX_CYCLE, STALL_EVENTS, STALL_ULPS, ZONE, EventKind, Reason
 
 #: Kernel stepper results the ivp loop produces (see :mod:`selfalign.solvers.kernel`).
 _DONE, _STOP_BUDGET, _STOP_STALL = 0, 4, 5
+#: The slip modes a stick can end in, in the order of the stick's exit events.
+_SLIP_MODES = (-1, 1)
 
 
 def _event(fun, direction):
@@ -102,6 +110,7 @@ class _Run:
         self.events = []
         self.n_events = 0
         self.stalled, self.last_event = 0, None
+        self.stall_time = STALL_ULPS * math.ulp(self.dt)
         self.stats = {"steps": 0, "nfev": 0, "ivp_calls": 0}
         self.dense = scene.record.dense
         spp = int(scene.record.samples_per_period)
@@ -158,10 +167,13 @@ class _Run:
         return end
 
     def log(self, kind, mode_before):
-        """Count (and record) an event at the current time and state."""
+        """Count (and record) an event at the current time and state; events that follow each other
+        within ``stall_time`` count towards a stall (chattering)."""
         self.n_events += 1
         now = (self.p, self.tau)
-        self.stalled = self.stalled + 1 if now == self.last_event else 0
+        last = self.last_event
+        advance = math.inf if last is None else (now[0] - last[0]) * self.dt + (now[1] - last[1])
+        self.stalled = self.stalled + 1 if advance <= self.stall_time else 0
         self.last_event = now
         if self.scene.record.events:
             self.events.append((int(kind), self.p, self.tau, self.x, self.v, mode_before, self.mode,
@@ -231,24 +243,36 @@ class _Run:
         mu = self.law.ratio * self.mu_bar(x)          # the static limit
         sol = solve_ivp(lambda t, y: (0.0, 0.0), (tau_a, tau_b), [x, 0.0], method=self.integrator,
                         rtol=self.rtol, atol=self.atol, max_step=self.stick_max_step,
-                        events=[_event(lambda t, y: self.acceleration(t) - mu, 1),
-                                _event(lambda t, y: self.acceleration(t) + mu, -1)])
+                        events=[_event(self.stick_exit(mu, mode), 1) for mode in _SLIP_MODES])
         self.count(sol)
         if sol.status == -1:
             return Reason.SOLVER_FAILED, f"solve_ivp failed in stick at period {self.p}, tau {tau_a!r}: {sol.message}"
         self.moved(x, x)
         if sol.status == 1:
             which = 0 if sol.t_events[0].size else 1
-            # The root may sit an ulp before the crossing; slip starts where |y''| > mu_bar.
-            tau_e = _first_time(float(sol.t_events[which][0]), tau_b, lambda t: abs(self.acceleration(t)) > mu)
+            # The root may sit an ulp before the crossing; slip starts where the model's rule says slip.
+            tau_e = _first_time(float(sol.t_events[which][0]), tau_b,
+                                lambda t: decide_mode(self.acceleration(t), mu) != 0)
             self.sample(tau_a, tau_e, lambda g: (np.full(g.size, x), np.zeros(g.size)))
-            self.mode = -1 if which == 0 else 1
+            self.mode = _SLIP_MODES[which]
             self.set_time(tau_e)
             self.log(EventKind.SLIP, 0)
             self.record_event_sample()
             return _DONE
         self.sample(tau_a, tau_b, lambda g: (np.full(g.size, x), np.zeros(g.size)))
         return self.finish_piece(tau_b, None)
+
+    def stick_exit(self, mu, mode):
+        """The event function of a stick ending in slip ``mode`` (-1 or 1) at the static limit ``mu``:
+        -mode y'' - mu, positive exactly where the model's rule (:func:`decide_mode`) says slip in
+        ``mode``.  solve_ivp takes a zero for a crossing, so where the rule says stick the value is
+        kept below 0: a |y''| that equals mu to rounding (a plateau on x_stick_min) holds the stick,
+        as it does in the exact solver, instead of slipping for an ulp and sticking again."""
+        def exit_value(t, y):
+            a = self.acceleration(t)
+            value = -mode * a - mu
+            return value if decide_mode(a, mu) == mode else min(value, -math.ulp(0.0))
+        return exit_value
 
     def slip(self, tau_a, tau_b, stick):
         from scipy.integrate import solve_ivp

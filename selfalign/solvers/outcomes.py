@@ -68,6 +68,10 @@ ACC_TOL_ULPS = 64.0
 #: Successive zero-duration arcs that count as a stalled (Zeno) event loop.  The tie rules
 #: make this impossible; the guard turns a broken invariant into ERROR instead of a hang.
 STALL_EVENTS = 100
+#: ivp: events closer than this many ulp of dt to the one before count as without time advancing
+#: (its event times are located to rounding and moved up to 64 ulp on); the compiled steppers
+#: count arcs of zero duration.
+STALL_ULPS = 128.0
 
 #: Regions of constant or affine friction (a walk's region; bit masks use 1 << region).
 LOW, ZONE, HIGH = 0, 1, 2
@@ -92,8 +96,9 @@ MESSAGES = {
     Reason.WALK_BACKWARD: ("never stops: steady motion {where} with net advance {advance!r} per period"
                            "{never_reaches}"),
     Reason.MAX_EVENTS: "max_events = {max_events} reached at period {period}, tau = {tau!r}; raise max_events",
-    Reason.STALL: ("event loop stalled: more than {stall} successive events without time advancing at period "
-                   "{period}, tau = {tau!r}"),
+    Reason.STALL: ("event loop stalled (mode chattering): more than {stall} successive events without time "
+                   "advancing by more than {stall_ulps:g} ulp of the period, at x = {x!r}, period {period}, "
+                   "tau = {tau!r}"),
     Reason.NONFINITE: ("non-finite state in period {period} (the arithmetic overflows at these scales); the "
                        "state at its start, x = {x!r}, v = {v!r}, is kept"),
     Reason.SOLVER_FAILED: "{detail}",

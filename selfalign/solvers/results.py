@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .outcomes import MAX_CYCLE, STALL_EVENTS, STATUS_CODES, Reason, Status, message
+from .outcomes import MAX_CYCLE, STALL_EVENTS, STALL_ULPS, STATUS_CODES, Reason, Status, message
 
 _REASON_TO_STATUS_CODE = np.array([STATUS_CODES[Reason(r).status] for r in range(len(Reason))], dtype=np.int8)
 _STATUSES = list(Status)
@@ -200,7 +200,7 @@ def outcome_message(rec, origin: float, options: dict, until: str, horizon: int,
     fields = {"x": x, "v": float(rec["v"]), "period": int(rec["n_end"]), "tau": float(rec["tau_end"]),
               "periods": int(rec["n_end"]), "fast_forward": int(rec["fast_forward"]),
               "max_periods": horizon, "max_cycle": MAX_CYCLE, "max_events": options.get("max_events"),
-              "stall": STALL_EVENTS, "rest_acc": float(rec["rest_acc"]),
+              "stall": STALL_EVENTS, "stall_ulps": STALL_ULPS, "rest_acc": float(rec["rest_acc"]),
               "mu": mu if mu is None or ratio == 1.0 else ratio * mu,
               "holding": "mu_bar" if ratio == 1.0 else f"mu_s = r mu_bar (r = mu_s/mu_k = {ratio!r})",
               "limit": origin + float(rec["xs"]), "remaining": float(rec["xs"] - rec["last_stick"]),
