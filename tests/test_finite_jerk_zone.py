@@ -203,3 +203,24 @@ def test_exact_takes_finite_jerk_but_not_fourier_on_a_stop_zone():
         sa.simulate(sa.Scene(fourier, ZONE, periods=1))
     with pytest.raises(ValueError, match="cannot simulate a Fourier profile on a stop zone"):
         simulate_batch(fourier, 0.0, surface=ZONE, until="periods", periods=1)
+
+
+def test_a_tiny_ramp_still_accumulates_at_x_stick_min():
+    """Eq. (41) with max|y''| = max(y2, y3), the profile's levels: the ramp ends computed as
+    a + j (t_end - t_start) miss the levels by the rounding of the break times (3e-11 relative
+    for a ramp of 4e-7 dt), and when that overshoot was taken as max|y''| the mass parked 4e-11
+    below the x_stick_min so computed and the run read as a periodic motion.  Here the entries of
+    a profile from the design tool (case 3, y2'' = 2 y3'') accumulate at the paper's x_stick_min
+    for ramps from 1e-8 to 1e-4 of dt, as they do without ramps."""
+    dt, dy, y2, y3 = 2.4422284905389176, 0.5, 2.1460378775685394, 1.0730189387842697
+    zone = sa.StopZone(0.0, 1.0, 2.5)
+    paper = sa.simulate(sa.Scene(sa.ThreePhaseProfile(dt, dy, y2, y3), zone, x0=-0.3, until="rest",
+                                 max_periods=2000))
+    assert paper.status is sa.Status.ACCUMULATION
+    for fraction in (1e-8, 4e-7, 1e-4):
+        profile = FiniteJerkProfile(dt, dy, y2, y3, ramp=fraction * dt)
+        assert profile.max_abs_acceleration == y2
+        for x0 in (-0.3, -1.0):
+            run = sa.simulate(sa.Scene(profile, zone, x0=x0, until="rest", max_periods=2000))
+            assert run.status is sa.Status.ACCUMULATION, (fraction, x0, run.message)
+            assert abs(run.x_end - paper.x_end) <= 1e-12, (fraction, x0)

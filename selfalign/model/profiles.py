@@ -441,6 +441,14 @@ class FiniteJerkProfile(PiecewiseLinearProfile):
         super().__init__(breaks, accels, jerks, float(sol.y_start), float(sol.yd_start))
         self.dt = float(dt)
 
+    @property
+    def max_abs_acceleration(self) -> float:
+        """max(y2, y3): the ramps only join the levels.  (The ramp ends a + j (t_end - t_start)
+        of the piecewise-linear form miss the levels by the rounding of the break times, 3e-11
+        relative for a 1e-6 dt ramp; as max|y''| that moved x_stick_min (eq. 41) off the point
+        where the mass parks, and accumulation read as a periodic motion.)"""
+        return max(self.y2, self.y3)
+
     def params(self) -> dict:
         given = {"ramp": float(self.ramp)} if self.ramp is not None else {"jerk": float(self.jerk)}
         return {"kind": self.kind, "dt": self.dt, "dy": self.dy, "y2": self.y2, "y3": self.y3, **given,
