@@ -196,8 +196,9 @@ def test_spec_file_reads_frequency_as_period(tmp_path):
 
 
 def test_command_line_design(tmp_path):
-    """Hypothesis: `selfalign design` prints the guarantee, writes an HDF5 file whose datasets carry
-    SI units, and exits 1 (with the reason) when no design meets the spec."""
+    """Hypothesis: `selfalign design` prints the guarantee, states in --json the effects and the
+    method that checked it, writes an HDF5 file whose datasets carry SI units, and exits 1 (with
+    the reason) when no design meets the spec."""
     click_testing = pytest.importorskip("click.testing")
     from selfalign.cli.commands import selfalign as command
     from selfalign.io.hdf5 import read_dataset_attrs
@@ -207,6 +208,10 @@ def test_command_line_design(tmp_path):
     run = click_testing.CliRunner().invoke(command, ["design", str(path), "-o", str(out)], standalone_mode=False)
     assert run.exception is None and run.return_value == 0, run.output
     assert "guarantee: yes" in run.output
+    run = click_testing.CliRunner().invoke(command, ["design", str(path), "--json"], standalone_mode=False)
+    summary = json.loads(run.output)
+    assert summary["guaranteed"] is True and summary["method"].startswith("exact"), summary
+    assert summary["effects"] == "none"  # the paper's model: Coulomb friction, no ramps
     attrs = read_dataset_attrs(out)
     assert attrs["profile/period"]["units"] == "s (SI)" and attrs["verification/dx_d"]["units"] == "m (SI)"
     bad = json.loads(json.dumps(SPEC))

@@ -317,6 +317,7 @@ def design_summary(result) -> dict:
             "x_stick_min_m": result.verification.x_stick_min[0].tolist(),
             "dx_d_m": result.verification.dx_d[0].tolist(),
             "frac_accumulate": result.verification.frac_accumulate[0].tolist(),
+            "effects": result.spec.effects(), "method": result.verification.method,
         })
     out["assumptions"] = list(result.assumptions)
     return {key: finite_or_none(value) if isinstance(value, (float, list)) and key != "assumptions" else value
