@@ -27,6 +27,7 @@ from ..progress import Progress, resolve_mode
 from ..solvers.driver import simulate, simulate_batch
 from ..solvers.methods import most_exact_method
 from ..solvers.outcomes import STATUS_CODES, Status
+from .positioning import setting_profile
 from .steady_simulation import exact_steady_state, simulated_steady_state
 
 
@@ -35,9 +36,7 @@ def jerk_profile(dt: float, dy: float, y2: float, y3: float, ramp_fraction: floa
     ramp_fraction dt; None where no profile exists (case 0) and RAMPS_TOO_LONG where the ramps
     do not fit."""
     try:
-        if ramp_fraction == 0.0:
-            return ThreePhaseProfile(dt, dy, y2, y3)
-        return FiniteJerkProfile(dt, dy, y2, y3, ramp=ramp_fraction * dt)
+        return setting_profile(dt, dy, y2, y3, ramp_fraction * dt)
     except ValueError as exc:
         return None if "no physical" in str(exc) else RAMPS_TOO_LONG
 
