@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 
 from .errors import check_finite, check_integer, check_positive
 from .friction import FrictionLaw
+from .profiles import MIN_RAMP_FRACTION
 
 OBJECTIVES = ("process_time", "robustness")
 
@@ -98,6 +99,10 @@ class DesignSpec:
         if self.ramp is not None and 3.0 * self.ramp >= p_high:
             raise ValueError(f"actuator.ramp must be shorter than a third of the longest period ({p_high:g} s: three "
                              f"ramps per period), got {self.ramp!r}")
+        if self.ramp is not None and self.ramp < MIN_RAMP_FRACTION * p_high:
+            raise ValueError(f"actuator.ramp must be at least 2^-48 times the longest period, "
+                             f"{MIN_RAMP_FRACTION * p_high!r} s (a shorter ramp is lost in the rounding of the "
+                             f"profile's switch times; leave ramp out for the paper's jumps), got {self.ramp!r}")
         if self.objective not in OBJECTIVES:
             raise ValueError(f"objective must be one of {', '.join(OBJECTIVES)}, got {self.objective!r}")
         if self.objective == "robustness" and self.max_process_time is None:

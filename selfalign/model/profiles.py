@@ -253,13 +253,21 @@ class PiecewiseLinearProfile(Profile):
     """A periodic y(t) made of third-order polynomial pieces: y'' linear in each piece.
 
     Piece ``i`` spans ``[breaks[i], breaks[i+1])`` with y'' = ``accels[i]`` + ``jerks[i]`` s,
-    s the time since the piece start; ``y_start``, ``yd_start`` are y and y' at t = 0.
-    Zero-length pieces are dropped.  y and y' are continuous (integrated piece by piece);
-    y'' may jump at a break.  It is not piecewise constant: the exact solver runs it on its
-    smooth stepper (README "Finite jerk").
+    s the time since the piece start, running from ``accels[i]`` to ``ends[i]``; ``y_start``,
+    ``yd_start`` are y and y' at t = 0.  Zero-length pieces are dropped.  y and y' are
+    continuous (integrated piece by piece); y'' may jump at a break.  It is not piecewise
+    constant: the exact solver runs it on its smooth stepper (README "Finite jerk").
+
+    ``ends`` (default accels + jerks * lengths) are the values y'' reaches at the piece ends,
+    and y'' never leaves [min(accels[i], ends[i]), max(accels[i], ends[i])] (it is clamped
+    there): the break times are floats, so accels + jerks * lengths misses the level a ramp
+    was built to reach by about |jerk| eps dt (5e-8 of the level for a ramp of 1e-9 dt), and
+    overshooting the level would move y'' past a friction limit set equal to it.  The ends
+    must lie within that rounding of accels + jerks * lengths.  max|y''| is the largest |accels|
+    and |ends|, the bound every solver's rest-for-good test and stick test share.
     """
 
-    def __init__(self, breaks, accels, jerks, y_start: float, yd_start: float):
+    def __init__(self, breaks, accels, jerks, y_start: float, yd_start: float, ends=None):
         y_start = check_finite("y_start", y_start)
         yd_start = check_finite("yd_start", yd_start)
         breaks, accels, jerks = (np.asarray(a, dtype=float) for a in (breaks, accels, jerks))
@@ -270,9 +278,18 @@ class PiecewiseLinearProfile(Profile):
                              f"got {breaks.tolist()}")
         if not (np.all(np.isfinite(accels)) and np.all(np.isfinite(jerks))):
             raise ValueError(f"accels and jerks must be finite, got {accels.tolist()} and {jerks.tolist()}")
+        reached = accels + jerks * np.diff(breaks)
+        if ends is None:
+            ends = reached
+        ends = np.asarray(ends, dtype=float)
+        slack = 16.0 * np.finfo(float).eps * (np.abs(accels) + np.abs(jerks) * breaks[1:] + np.abs(reached))
+        if ends.shape != accels.shape or not np.all(np.abs(ends - reached) <= slack):
+            raise ValueError(f"ends must have one entry per piece, each the value accels + jerks * length reaches to "
+                             f"the rounding of the break times, got {np.asarray(ends).tolist()} for "
+                             f"{reached.tolist()}")
         keep = np.diff(breaks) > 0
         self.breaks = np.concatenate([breaks[:1], breaks[1:][keep]])
-        self.accels, self.jerks = accels[keep], jerks[keep]
+        self.accels, self.jerks, self.ends = accels[keep], jerks[keep], ends[keep]
         self.dt = float(self.breaks[-1])
         lengths = np.diff(self.breaks)
         impulse = self.accels * lengths + 0.5 * self.jerks * lengths**2
@@ -293,8 +310,7 @@ class PiecewiseLinearProfile(Profile):
 
     @property
     def max_abs_acceleration(self) -> float:
-        ends = self.accels + self.jerks * np.diff(self.breaks)
-        return float(max(np.max(np.abs(self.accels)), np.max(np.abs(ends))))
+        return float(max(np.max(np.abs(self.accels)), np.max(np.abs(self.ends))))
 
     @property
     def velocity_swing(self) -> float:
@@ -323,11 +339,12 @@ class PiecewiseLinearProfile(Profile):
 
     def acceleration(self, t):
         s, i = self._evaluate(t)
-        return self.accels[i] + self.jerks[i] * s
+        a, e = self.accels[i], self.ends[i]
+        return np.clip(a + self.jerks[i] * s, np.minimum(a, e), np.maximum(a, e))
 
     def params(self) -> dict:
         return {"kind": "piecewise_linear", "dt": self.dt, "breaks": self.breaks.tolist(),
-                "accels": self.accels.tolist(), "jerks": self.jerks.tolist()}
+                "accels": self.accels.tolist(), "jerks": self.jerks.tolist(), "ends": self.ends.tolist()}
 
 
 @dataclass(frozen=True)
@@ -392,16 +409,38 @@ def finite_jerk_times(dt, dy, y2, y3, ramp_a, ramp_b, ramp_c) -> FiniteJerkTimes
                            t_top=t_top, t_bottom=t_bottom, q=q, valid=valid)
 
 
-def ramp_times(y2: float, y3: float, ramp: float | None = None, jerk: float | None = None) -> tuple:
-    """(ramp_a, ramp_b, ramp_c) of the three switches: all ``ramp``, or |jump| / ``jerk``."""
+#: The shortest ramp a finite-jerk profile takes, as a fraction of its period: 16 eps.  Its
+#: ramps are centred on switch times t <= dt and end at the floats t -+ ramp / 2, each rounded
+#: by up to eps dt / 2, so a ramp's represented length is off by up to eps dt: at 16 eps dt by
+#: at most 1/16 of itself, and below eps dt it may have no length at all (t -+ ramp / 2 round
+#: to t) or, at a few ulps, a jerk off by a factor of two.  A ramp that short is the paper's jump
+#: (ThreePhaseProfile; ``ramp: 0`` in a scene file).
+MIN_RAMP_FRACTION = 2.0 ** -48
+
+
+def ramp_times(dt: float, y2: float, y3: float, ramp: float | None = None, jerk: float | None = None) -> tuple:
+    """(ramp_a, ramp_b, ramp_c) of the three switches: all ``ramp``, or |jump| / ``jerk``.
+
+    Each ramp must be at least :data:`MIN_RAMP_FRACTION` dt and shorter than dt (whether the
+    three fit their phases is :func:`finite_jerk_times`' test): a ValueError names ``ramp`` or
+    ``jerk`` and the values allowed otherwise, before any arithmetic on the ramps can overflow."""
     if (ramp is None) == (jerk is None):
         raise ValueError(f"give exactly one of ramp (a ramp time > 0) and jerk (the largest |d y''/dt| > 0), "
                          f"got ramp = {ramp!r}, jerk = {jerk!r}")
+    shortest = MIN_RAMP_FRACTION * dt
+    why = (f"a ramp shorter than 2^-48 dt = {shortest!r} is lost in the rounding of its break times (the paper's "
+           f"jumps are ThreePhaseProfile, ramp 0), one of dt = {dt!r} or more does not fit the period")
     if ramp is not None:
         ramp = check_positive("ramp", ramp)
+        if not shortest <= ramp < dt:
+            raise ValueError(f"ramp must lie in [{shortest!r}, {dt!r}) ({why}), got {ramp!r}")
         return ramp, ramp, ramp
     jerk = check_positive("jerk", jerk)
-    return y2 / jerk, (y2 + y3) / jerk, y3 / jerk
+    ramps = (y2 / jerk, (y2 + y3) / jerk, y3 / jerk)
+    if not (min(ramps) >= shortest and ramps[1] < dt):
+        raise ValueError(f"jerk must lie in ((y2 + y3) / dt, min(y2, y3) / {shortest!r}] = ({(y2 + y3) / dt!r}, "
+                         f"{min(y2, y3) / shortest!r}] so that every ramp |jump| / jerk fits ({why}), got {jerk!r}")
+    return ramps
 
 
 class FiniteJerkProfile(PiecewiseLinearProfile):
@@ -410,6 +449,12 @@ class FiniteJerkProfile(PiecewiseLinearProfile):
     the ramps centred on the switch times of :func:`finite_jerk_times`, which keep the
     Appendix's constraints (zero-mean y'' and y', the stroke dy, min y = 0).  t = 0 is the
     centre of the ramp from +y3 to 0; as the ramps vanish this is the paper's profile.
+
+    Each ramp ends on its level exactly (``ends``), so max|y''| = max(y2, y3) is the largest
+    y'' the solvers see.  A ramp must be at least :data:`MIN_RAMP_FRACTION` dt (3.6e-15 dt,
+    a jerk at most min(y2, y3) / that): a shorter one is below the rounding of its break times
+    and is refused (ValueError naming ``ramp`` or ``jerk``) rather than silently made the
+    paper's jump, which is :class:`ThreePhaseProfile`, a different solver path.
     """
 
     kind = "three_phase"
@@ -418,7 +463,7 @@ class FiniteJerkProfile(PiecewiseLinearProfile):
                  jerk: float | None = None):
         for name, value in (("dt", dt), ("dy", dy), ("y2", y2), ("y3", y3)):
             check_positive(name, value)
-        ta, tb, tc = ramp_times(y2, y3, ramp, jerk)
+        ta, tb, tc = ramp_times(dt, y2, y3, ramp, jerk)
         sol = finite_jerk_times(dt, dy, y2, y3, ta, tb, tc)
         if not 0.0 < float(sol.q) <= 1.0:
             raise NonPhysicalProfile(f"no physical finite-jerk three-phase profile: dt = {dt!r}, dy = {dy!r}, "
@@ -438,16 +483,9 @@ class FiniteJerkProfile(PiecewiseLinearProfile):
         breaks = [0.0, hc, t1 - ha, t1 + ha, t2 - hb, t2 + hb, dt - hc, dt]
         accels = [y3 / 2.0, 0.0, 0.0, -y2, -y2, y3, y3]
         jerks = [-y3 / tc, 0.0, -y2 / ta, 0.0, (y2 + y3) / tb, 0.0, -y3 / tc]
-        super().__init__(breaks, accels, jerks, float(sol.y_start), float(sol.yd_start))
+        ends = [0.0, 0.0, -y2, -y2, y3, y3, y3 / 2.0]       # each ramp ends on its level exactly
+        super().__init__(breaks, accels, jerks, float(sol.y_start), float(sol.yd_start), ends=ends)
         self.dt = float(dt)
-
-    @property
-    def max_abs_acceleration(self) -> float:
-        """max(y2, y3): the ramps only join the levels.  (The ramp ends a + j (t_end - t_start)
-        of the piecewise-linear form miss the levels by the rounding of the break times, 3e-11
-        relative for a 1e-6 dt ramp; as max|y''| that moved x_stick_min (eq. 41) off the point
-        where the mass parks, and accumulation read as a periodic motion.)"""
-        return max(self.y2, self.y3)
 
     def params(self) -> dict:
         given = {"ramp": float(self.ramp)} if self.ramp is not None else {"jerk": float(self.jerk)}

@@ -20,9 +20,11 @@ friction only: during a slip in direction s,
 x' = v0 - s (t - t0) - (y'(t) - y'(t0)) and x follows in closed form.  The events
 (v = 0, and |y''| crossing 1 while stuck) are bracketed on a fixed grid of
 64 (order + 1) points per period (Fourier) or the breaks and 16 points per piece
-(piecewise-linear y'', where x' is a quadratic in t within a piece); sign changes closer
-than the grid spacing are not resolved.  They are refined with Brent's method to
-|error| <= 2 eps dt + 4 eps t (eps = 2.2e-16).
+(piecewise-linear y'', where x' is a quadratic in t within a piece, so a zero of x' between
+grid points is found at its minimum; on a Fourier profile what can be missed is bounded in
+:func:`selfalign.solvers.kernel._slip_minimum`).  They are refined with Brent's method to
+|error| <= 2 eps dt + 4 eps t (eps = 2.2e-16).  A piecewise-linear row carries each piece's
+end value of y'' too: y'' is kept between a piece's start and end values.
 """
 
 from __future__ import annotations
@@ -45,7 +47,8 @@ def profile_row(profile) -> tuple[int, np.ndarray]:
     if isinstance(profile, PiecewiseLinearProfile):
         return R.EXACT_SMOOTH, np.array(head + [-profile.accels.size] + profile.breaks.tolist()
                                         + profile.accels.tolist() + profile.jerks.tolist()
-                                        + profile.piece_velocity[:-1].tolist() + profile.piece_position[:-1].tolist())
+                                        + profile.piece_velocity[:-1].tolist() + profile.piece_position[:-1].tolist()
+                                        + profile.ends.tolist())
     return R.EXACT_PIECEWISE, np.array(head + [profile.accels.size] + profile.breaks.tolist()
                                        + profile.accels.tolist())
 

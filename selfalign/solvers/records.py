@@ -15,7 +15,7 @@ Profile table.  The kernel reads every table motion from one float64 row per pro
 * ``exact`` on a Fourier profile: K, a_1..a_K, b_1..b_K, omega_1..omega_K;
 * ``exact`` on a piecewise-linear-y'' profile (finite jerk, the same smooth stepper):
   -m (negative: not a Fourier row), breaks[0..m], then per piece y'', the jerk (slope
-  of y''), y' and y at its start (m values each);
+  of y''), y' and y at its start and y'' at its end (m values each);
 * ``moreau``: N, h, the largest |increment|, then the N table-velocity increments
   y'(t_k + h) - y'(t_k) of one period of steps from the start phase t_0 (the exact
   impulse of each step).
