@@ -127,7 +127,13 @@ def jerk_step(kind: int, omega: float, v0: float, acc0: float, jerk: float, s: f
     """Displacement, velocity and acceleration after time ``s`` of an arc of
     x'' = acc0 + kappa (x - x0) + jerk s (a table acceleration linear in time, y'' = a - jerk s):
     x - x0 = v0 S1 + acc0 S2 + jerk S3, v = v0 C + acc0 S1 + jerk S2 (the forcing enters the
-    same linear equation, so its response adds to :func:`step`'s)."""
+    same linear equation, so its response adds to :func:`step`'s).
+
+    The event solver relies on one property of these arcs: x''' = kappa x' + jerk, so the
+    acceleration A = x'' solves A'' = kappa A.  A is linear (QUADRATIC), c cos(w s + phi)
+    (HARMONIC: zeros pi / w apart) or c1 e^{ws} + c2 e^{-ws} (HYPERBOLIC: at most one zero), so
+    in a time shorter than pi / w the velocity has at most one extremum and x' = 0 at most twice
+    (see kernel._jerk_arc_end)."""
     c, s1, s2 = basis(kind, omega, s)
     dx = v0 * s1 + acc0 * s2 + jerk * jerk_basis(kind, omega, s)
     kappa = -omega * omega if kind == HARMONIC else (omega * omega if kind == HYPERBOLIC else 0.0)

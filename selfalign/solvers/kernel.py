@@ -120,9 +120,10 @@ DONE, STOP_REST, STOP_ACCUMULATION, STOP_FIRST_STICK, STOP_BUDGET, STOP_STALL = 
 
 #: Evaluations of Brent's method at most per event time (it needs ~10 to 1 ulp).
 BRENT_MAX_ITER = 200
-#: Grid intervals of the smooth stepper per piece of a piecewise-linear-y'' profile: within a
-#: piece the slip velocity is a quadratic in time, so only a double root inside one of these
-#: intervals (a graze) goes unseen.
+#: Grid intervals per piece of a piecewise-linear-y'' profile, for the smooth stepper and the
+#: stop-zone stepper's brackets (which add as many per harmonic period): between two grid points
+#: the slip velocity has at most one extremum, which is tested where it can be a zero
+#: (:func:`_slip_minimum`, :func:`_jerk_arc_end`).
 GRID_PER_PIECE = 16
 
 _SWITCH, _STICK, _SLIP, _REVERSAL, _ZONE = (int(EventKind.SWITCH), int(EventKind.STICK), int(EventKind.SLIP),
@@ -516,6 +517,16 @@ def _fourier(row, t):
 
 
 @jit
+def _ramp(row, i, value):
+    """``value``, a y'' of piece i of a piecewise-linear-y'' row, kept within the piece's range
+    [min(a_i, e_i), max(a_i, e_i)] (start value a_i, end value e_i: the profile's ``ends``): a
+    ramp's a + j s, its break times rounded, would otherwise pass the level it ends on."""
+    m = -int(row[R.DATA])
+    a, e = row[R.DATA + 2 + m + i], row[R.DATA + 2 + 5 * m + i]
+    return min(max(value, min(a, e)), max(a, e))
+
+
+@jit
 def _piecewise_linear(row, t):
     """(y, y', y'') of the piecewise-linear-y'' profile in ``row`` at time t in [0, 2 dt)."""
     dt = row[R.DT]
@@ -528,7 +539,7 @@ def _piecewise_linear(row, t):
     s = tau - row[b0 + i]
     a, j = row[b0 + m + 1 + i], row[b0 + 2 * m + 1 + i]
     yd, y = row[b0 + 3 * m + 1 + i], row[b0 + 4 * m + 1 + i]
-    return y + s * (yd + s * (a / 2.0 + s * j / 6.0)), yd + s * (a + s * j / 2.0), a + j * s
+    return y + s * (yd + s * (a / 2.0 + s * j / 6.0)), yd + s * (a + s * j / 2.0), _ramp(row, i, a + j * s)
 
 
 @jit
@@ -612,6 +623,49 @@ def _slip_sign_point(row, t0, sign, v, s0, yd0, limit, right):
         if _event_function(1, row, t0, p, sign, v, s0, yd0, limit) > 0.0:
             return p
     return s0
+
+
+@jit
+def _past_jump(row, t0, sign, limit, q, xtol):
+    """Where a stuck mass starts to slip when y'' jumps past the limit at the break q of a
+    piecewise-linear-y'' row (y'' is linear between grid points, and the limit is not reached
+    before q from the left): q, or the first point a few ulps on where the profile evaluates to
+    the new piece (q + t0 may round below the break).  Brent's method would converge to either
+    side of the jump, and a slip started on its near side ends at once and sticks again there."""
+    root = q
+    for _ in range(8):
+        if _event_function(0, row, t0, root, sign, 0.0, 0.0, 0.0, limit) >= 0.0:
+            break
+        root += 0.5 * xtol
+    return root
+
+
+@jit
+def _slip_minimum(row, t0, sigma, p, q, g_p, slope_p, g_q, slope_q, xtol, rtol):
+    """The interior minimum of the slip velocity G = sigma x' on the grid interval [p, q] of
+    :func:`_period_smooth` (G(p), G(q) > 0 and G'(p) = ``slope_p`` < 0 given), or -1 if G has
+    none there: only there can G vanish between two grid points of the slip's sign.
+
+    Piecewise-linear y'': the interval lies in one piece (the grid holds the breaks), where
+    G' = -1 - sigma y'' is linear, so G is the quadratic through G(p), G'(p) and G(q); its
+    vertex p - G'(p) / c, c = 2 (G(q) - G(p) - G'(p) h) / h^2, is the minimum if c > 0 and it
+    lies inside.  (G'(q) is not used: y'' may jump at q.)  So no sign change of x' is missed
+    but a graze within the rounding of G.
+    Fourier: the zero of G' (``slope_q`` > 0 needed), by Brent's method.  G' may have further
+    zeros between two grid points, so a dip of G is missed where G'' = -sigma y^(3) also changes
+    sign in the interval (at a peak of |y''|); with h = dt / (64 (K + 1)) such a dip is shorter
+    than h and less deep than h^3 max|y^(4)| / 8 (1.5e-5 of the peak table velocity for K = 1)."""
+    if row[R.DATA] < 0.0:
+        h = q - p
+        c = 2.0 * (g_q - g_p - slope_p * h) / (h * h)
+        if c > 0.0:
+            s = p - slope_p / c
+            if p < s < q:
+                return s
+        return -1.0
+    if slope_q > 0.0:
+        return _brent(0, row, t0, -sigma, 0.0, 0.0, 0.0, 1.0, p, q, xtol, rtol)
+    return -1.0
 
 
 @jit
@@ -699,8 +753,12 @@ def _period_smooth(s, row, until, max_events, bnd, cross, record, arcs, events, 
                 break
             sgn = 1.0 if g_ydd[k] > 0.0 else -1.0
             left = max(s0, grid[k - 1])
-            if _event_function(0, row, tau0, left, sgn, 0.0, 0.0, 0.0, limit) >= 0.0:
+            f_left = _event_function(0, row, tau0, left, sgn, 0.0, 0.0, 0.0, limit)
+            if f_left >= 0.0:
                 root = left
+            elif row[R.DATA] < 0.0 and not 2.0 * _event_function(0, row, tau0, 0.5 * (left + grid[k]), sgn, 0.0, 0.0,
+                                                                     0.0, limit) - f_left > 0.0:
+                root = _past_jump(row, tau0, sgn, limit, grid[k], xtol)
             else:
                 root = _brent(0, row, tau0, sgn, 0.0, 0.0, 0.0, limit, left, grid[k], xtol, rtol)
             new = -int(sgn)
@@ -726,8 +784,26 @@ def _period_smooth(s, row, until, max_events, bnd, cross, record, arcs, events, 
                         short = moved < 0.0
                         break
                     k += 1
+            # Between grid points where it has the slip's sign, the velocity can vanish only at
+            # an interior minimum (_slip_minimum): located and tested in every interval where
+            # the velocity falls at the start.  A slip from v = 0 starts where the mode
+            # decision found |y''| > r >= 1, so x'' has the slip's sign there (to rounding).
+            dip = -1.0
             if not short:
-                while k < g and sigma * (v - sigma * (grid[k] - s0) - (g_yd[k] - yd0)) > 0.0:
+                g_prev, p = sigma * v, s0
+                slope = -1.0 - sigma * ydd0 if sigma * v > 0.0 else 0.0
+                while k < g:
+                    g_k = sigma * (v - sigma * (grid[k] - s0) - (g_yd[k] - yd0))
+                    if not g_k > 0.0:
+                        break
+                    if slope < 0.0:
+                        s_min = _slip_minimum(row, tau0, sigma, p, grid[k], g_prev, slope, g_k,
+                                              -1.0 - sigma * g_ydd[k], xtol, rtol)
+                        if s_min >= 0.0 and not _event_function(1, row, tau0, s_min, sigma, v, s0, yd0, limit) > 0.0:
+                            dip = s_min
+                            break
+                    g_prev, p = g_k, grid[k]
+                    slope = -1.0 - sigma * g_ydd[k]
                     k += 1
             if k >= g:
                 root = dt
@@ -737,7 +813,8 @@ def _period_smooth(s, row, until, max_events, bnd, cross, record, arcs, events, 
                     left = _slip_sign_point(row, tau0, sigma, v, s0, yd0, limit, grid[k])
                 else:
                     left = grid[k - 1] if k > k0 else s0
-                root = _brent(1, row, tau0, sigma, v, s0, yd0, limit, left, grid[k], xtol, rtol)
+                root = _brent(1, row, tau0, sigma, v, s0, yd0, limit, left, dip if dip >= 0.0 else grid[k], xtol,
+                              rtol)
                 found = True
             d = root - s0
             y1, yd1, ydd1 = _table_motion(row, tau0 + root)
@@ -783,29 +860,39 @@ def _period_smooth(s, row, until, max_events, bnd, cross, record, arcs, events, 
 # Exact stepper, piecewise-linear y'' (finite jerk) on a stop zone
 # ----------------------------------------------------------------------------------------
 
+#: Event functions of a jerk arc (:func:`_jerk_event_function`).
+_GAP, _VELOCITY, _SLOPE = 0, 1, 2
+
+
 @jit
-def _jerk_event_function(velocity, kind, om, sigma, v0, acc0, jerk, gap, s):
+def _jerk_event_function(which, kind, om, sigma, v0, acc0, jerk, gap, s):
     """(g, g') of an arc of :func:`A.jerk_step` after time s, positive before its event:
-    ``velocity``: g = sigma x' (v = 0 ahead); else g = sigma (gap - (x - x0)) (the boundary
-    at distance ``gap`` ahead)."""
+    _VELOCITY g = sigma x' (v = 0 ahead); _GAP g = sigma (gap - (x - x0)) (the boundary at
+    distance ``gap`` ahead); _SLOPE g = -sigma x'' (a minimum of sigma x' ahead), with
+    g' = -sigma (kappa x' + jerk), the arc's third derivative."""
     dx, v, acc = A.jerk_step(kind, om, v0, acc0, jerk, s)
-    if velocity:
+    if which == _VELOCITY:
         return sigma * v, sigma * acc
+    if which == _SLOPE:
+        kappa = -om * om if kind == _HARMONIC else (om * om if kind == _HYPERBOLIC else 0.0)
+        return -sigma * acc, -sigma * (kappa * v + jerk)
     return sigma * (gap - dx), -sigma * v
 
 
 @jit
-def _jerk_event_time(velocity, kind, om, sigma, v0, acc0, jerk, gap, lo, hi, xtol, rtol):
+def _jerk_event_time(which, kind, om, sigma, v0, acc0, jerk, gap, lo, hi, xtol, rtol):
     """The event of :func:`_jerk_event_function` in [lo, hi] (g(lo) > 0 >= g(hi)) by Newton's
     method kept inside the bracket, to a last step <= xtol + rtol s.  A step that would leave
     the bracket, or a second step after which the bracket has not halved, is a bisection, so
     the bracket halves at least every third evaluation: from <= dt to xtol = 2 eps dt takes
     <= 3 * 52 < BRENT_MAX_ITER of them (the cap is never reached).  A NaN g (overflow) bisects
-    too; the NaN state then ends the run as NONFINITE."""
+    too; the NaN state then ends the run as NONFINITE.  The bracket keeps g(lo) > 0 >= g(hi),
+    so where g changes sign once in [lo, hi] (:func:`_jerk_arc_end` brackets so) the result
+    is that sign change."""
     s = 0.5 * (lo + hi)
     width = hi - lo
     for it in range(BRENT_MAX_ITER):
-        g, dg = _jerk_event_function(velocity, kind, om, sigma, v0, acc0, jerk, gap, s)
+        g, dg = _jerk_event_function(which, kind, om, sigma, v0, acc0, jerk, gap, s)
         if g > 0.0:
             lo = s
         else:
@@ -825,37 +912,79 @@ def _jerk_event_time(velocity, kind, om, sigma, v0, acc0, jerk, gap, lo, hi, xto
 @jit
 def _jerk_arc_end(kind, om, sigma, v, acc0, jerk, gap, bounded, rem, xtol, rtol):
     """(duration, event) of a slip arc of :func:`A.jerk_step` within time ``rem``: event 1
-    v = 0, 2 the boundary at distance ``gap`` (if ``bounded``), 0 none.  Both event
-    functions are bracketed on GRID_PER_PIECE points plus GRID_PER_PIECE per harmonic period
-    2 pi / om (within one interval at most a graze goes unseen), then refined; v = 0 wins
-    a tie (tie rule 2).  A slip from v = 0 is bracketed from a point where it has left 0
-    (found by halving the first interval); if there is none, v = 0 ends it at once."""
+    v = 0, 2 the boundary at distance ``gap`` ahead (if ``bounded``), 0 none; v = 0 wins a
+    tie (tie rule 2).  ``v`` is 0 or has the sign ``sigma`` of the slip.
+
+    Why no event in a bracket is missed.  Let G = sigma x' and A = G' = sigma x''.  The arc
+    solves x'' = acc0 + kappa (x - x0) + jerk s, so x''' = kappa x' + jerk and A'' = kappa A:
+    the acceleration of a jerk arc solves the homogeneous equation.  So A is linear
+    (QUADRATIC, kappa = 0), c cos(w s + phi) (HARMONIC, zeros pi / w apart) or
+    c1 e^{ws} + c2 e^{-ws} (HYPERBOLIC, at most one zero), and unless A = 0 throughout its
+    zeros are simple.  The bracketing grid has GRID_PER_PIECE points plus GRID_PER_PIECE per
+    harmonic period 2 pi / w, so an interval [s_{k-1}, s_k] is shorter than pi / w and holds at
+    most one zero of A: on it G is monotone or has one interior extremum, where A changes
+    sign.  With G(s_{k-1}) > 0:
+
+    * G(s_k) <= 0: G has exactly one sign change in (s_{k-1}, s_k], the first v = 0 (falling;
+      rising to a maximum, then falling; or falling to a minimum, then rising to G(s_k) <= 0).
+    * G(s_k) > 0: G can vanish inside only at an interior minimum, i.e. only if
+      A(s_{k-1}) < 0 < A(s_k); then that minimum s* (the zero of A, bracketed by these signs) is
+      located, and G has a zero in (s_{k-1}, s*] iff G(s*) <= 0, exactly one.
+    * x is strictly monotone in the direction sigma from s_{k-1} to the first zero s_v of G
+      (or to s_k if there is none), so the boundary ahead is crossed before the slip stops iff
+      g_b = sigma (gap - (x - x0)) has reached 0 there, g_b(s_v) <= 0 (g_b(s_k) <= 0), and
+      that crossing is g_b's only sign change on [s_{k-1}, s_v].  When G has a single zero and
+      g_b(s_k) <= 0, g_b stays <= 0 after s_v (the mass moves back, away from the boundary), so
+      [s_{k-1}, s_k] brackets the same crossing.
+    * A slip from v = 0 (G(0) = 0) that decelerates, A(0) < 0 or A(0) = 0 with sigma jerk <= 0
+      (G''(0) = sigma jerk), ends at once with v = 0 (tie rule 4).  Otherwise G > 0 just after
+      0 and, by the first bullet, exactly on (0, s_v) within the first interval: a point of the
+      slip's sign before s_v is found by halving s_1 (G > 0 at q iff q < s_v).
+
+    Hence every event is located: rounding can hide only a zero of G (or g_b) within the
+    rounding of G (g_b) itself, a graze of depth ~eps times the velocity (distance) scale, which
+    rounding could not tell from a miss either.  Each time is refined by
+    :func:`_jerk_event_time` to 2 eps dt + 4 eps t."""
     if not rem > 0.0:                       # at the segment's end: the next segment decides
         return 0.0, 0
+    if v == 0.0 and (sigma * acc0 < 0.0 or (acc0 == 0.0 and sigma * jerk <= 0.0)):
+        return 0.0, 1                       # tie rule 4: decelerates from v = 0
     points = GRID_PER_PIECE + int(GRID_PER_PIECE * om * rem / (2.0 * math.pi))
     prev = 0.0
+    a_prev = sigma * acc0                   # A = sigma x'' at prev
     for k in range(1, points + 1):
         sk = rem * k / points
-        gv = _jerk_event_function(True, kind, om, sigma, v, acc0, jerk, gap, sk)[0]
-        gb = _jerk_event_function(False, kind, om, sigma, v, acc0, jerk, gap, sk)[0] if bounded else 1.0
-        if gv > 0.0 and gb > 0.0:
-            prev = sk
-            continue
+        gv, a_k = _jerk_event_function(_VELOCITY, kind, om, sigma, v, acc0, jerk, gap, sk)
+        gb = _jerk_event_function(_GAP, kind, om, sigma, v, acc0, jerk, gap, sk)[0] if bounded else 1.0
         s_v = _INF
-        s_b = _INF
+        if gv > 0.0 and a_prev < 0.0 < a_k:     # sigma x' has its minimum inside: is it <= 0?
+            s_min = _jerk_event_time(_SLOPE, kind, om, sigma, v, acc0, jerk, gap, prev, sk, xtol, rtol)
+            if not _jerk_event_function(_VELOCITY, kind, om, sigma, v, acc0, jerk, gap, s_min)[0] > 0.0:
+                s_v = _jerk_event_time(_VELOCITY, kind, om, sigma, v, acc0, jerk, gap, prev, s_min, xtol, rtol)
+        if gv > 0.0 and gb > 0.0 and s_v == _INF:
+            prev = sk
+            a_prev = a_k
+            continue
         if not gv > 0.0:
             left = prev
             if left == 0.0 and v == 0.0:
                 left = sk
                 for _ in range(60):
                     left *= 0.5
-                    if _jerk_event_function(True, kind, om, sigma, v, acc0, jerk, gap, left)[0] > 0.0:
+                    if _jerk_event_function(_VELOCITY, kind, om, sigma, v, acc0, jerk, gap, left)[0] > 0.0:
                         break
-                if not _jerk_event_function(True, kind, om, sigma, v, acc0, jerk, gap, left)[0] > 0.0:
+                if not _jerk_event_function(_VELOCITY, kind, om, sigma, v, acc0, jerk, gap, left)[0] > 0.0:
                     return 0.0, 1
-            s_v = _jerk_event_time(True, kind, om, sigma, v, acc0, jerk, gap, left, sk, xtol, rtol)
-        if not gb > 0.0:
-            s_b = _jerk_event_time(False, kind, om, sigma, v, acc0, jerk, gap, prev, sk, xtol, rtol)
+            s_v = _jerk_event_time(_VELOCITY, kind, om, sigma, v, acc0, jerk, gap, left, sk, xtol, rtol)
+        s_b = _INF
+        if bounded:
+            end_b = -1.0                        # where the crossing is bracketed, if it comes first
+            if not gb > 0.0 and (s_v == _INF or not gv > 0.0):
+                end_b = sk
+            elif s_v < _INF and not _jerk_event_function(_GAP, kind, om, sigma, v, acc0, jerk, gap, s_v)[0] > 0.0:
+                end_b = s_v
+            if end_b >= 0.0:
+                s_b = _jerk_event_time(_GAP, kind, om, sigma, v, acc0, jerk, gap, prev, end_b, xtol, rtol)
         if s_v <= s_b:
             return s_v, 1
         return s_b, 2
@@ -868,11 +997,12 @@ def _period_jerk_zone(s, row, until, max_events, bnd, cross, record, arcs, event
 
     Within a piece y'' = a + j t, so every slip arc is an arc of :mod:`selfalign.model.arcs`
     (quadratic outside the zone, harmonic or hyperbolic in it) plus the response to the
-    forcing -j t (:func:`A.jerk_step`), and a stuck mass slips when the linear |y''| exceeds
-    r mu_bar (closed form).  The events of a slip (v = 0, a zone boundary) are bracketed and
-    refined by :func:`_jerk_arc_end` to |error| <= 2 eps dt + 4 eps t.  Piece breaks are no
-    events (y'' is continuous at a finite-jerk profile's breaks; a jump is decided at once).
-    Slip arcs are recorded with their kind and omega and a NaN table acceleration."""
+    forcing -j t (:func:`A.jerk_step`), and a stuck mass slips when the linear |y''|, kept
+    within the piece's levels (:func:`_ramp`), exceeds r mu_bar (closed form).  The events of a
+    slip (v = 0, a zone boundary) are bracketed and refined by :func:`_jerk_arc_end` to
+    |error| <= 2 eps dt + 4 eps t.  Piece breaks are no events (y'' is continuous at a
+    finite-jerk profile's breaks; a jump is decided at once).  Slip arcs are recorded with their
+    kind and omega and a NaN table acceleration."""
     dt = row[R.DT]
     m = -int(row[R.DATA])
     b0 = R.DATA + 1
@@ -896,13 +1026,13 @@ def _period_jerk_zone(s, row, until, max_events, bnd, cross, record, arcs, event
         s0 = 0.0
         a_slip = _NAN                           # y'' at a slip start from stick: exactly +-r mu_bar
         while True:
-            a = a_seg + jerk * s0 if math.isnan(a_slip) else a_slip
+            a = _ramp(row, p, a_seg + jerk * s0) if math.isnan(a_slip) else a_slip
             a_slip = _NAN
             rem = seg - s0
             if mode == 0:
                 mu = _mu(s, xi)
                 limit = r_static * mu
-                a_end = a_seg + jerk * seg
+                a_end = _ramp(row, p, a_seg + jerk * seg)
                 root, new = _INF, 0
                 if abs(a) > limit:
                     root, new = s0, F.decide_mode(a, limit)
@@ -963,7 +1093,7 @@ def _period_jerk_zone(s, row, until, max_events, bnd, cross, record, arcs, event
                 if stalled > STALL_EVENTS:
                     _save(s, count, path, xi_max, dxp, lo, hi, regions)
                     return _stop(s, STOP_STALL, xi, v, mode, nn, ts + s0, dt)
-                a_now = a_seg + jerk * s0
+                a_now = _ramp(row, p, a_seg + jerk * s0)
                 if ev == 2:                     # zone crossing: on the boundary exactly
                     v = v1
                     if record:
