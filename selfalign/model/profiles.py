@@ -209,8 +209,8 @@ class ThreePhaseProfile(PiecewiseConstantProfile):
     kind = "three_phase"
 
     def __init__(self, dt: float, dy: float, y2: float, y3: float):
-        for name, value in (("dt", dt), ("dy", dy), ("y2", y2), ("y3", y3)):
-            check_positive(name, value)
+        dt, dy, y2, y3 = (check_positive(name, value) for name, value in (("dt", dt), ("dy", dy), ("y2", y2),
+                                                                           ("y3", y3)))
         q = float(three_phase_feasibility(dt, dy, y2, y3))
         if q > 1.0:
             raise NonPhysicalProfile(
@@ -416,8 +416,8 @@ class FiniteJerkProfile(PiecewiseLinearProfile):
 
     def __init__(self, dt: float, dy: float, y2: float, y3: float, ramp: float | None = None,
                  jerk: float | None = None):
-        for name, value in (("dt", dt), ("dy", dy), ("y2", y2), ("y3", y3)):
-            check_positive(name, value)
+        dt, dy, y2, y3 = (check_positive(name, value) for name, value in (("dt", dt), ("dy", dy), ("y2", y2),
+                                                                           ("y3", y3)))
         ta, tb, tc = ramp_times(y2, y3, ramp, jerk)
         sol = finite_jerk_times(dt, dy, y2, y3, ta, tb, tc)
         if not 0.0 < float(sol.q) <= 1.0:
@@ -473,9 +473,8 @@ class PolynomialProfile(PiecewiseConstantProfile):
     kind = "polynomial"
 
     def __init__(self, dt: float, dy: float, forward_fraction: float = 0.8):
-        check_positive("dt", dt)
-        check_positive("dy", dy)
-        check_finite("forward_fraction", forward_fraction)
+        dt, dy = check_positive("dt", dt), check_positive("dy", dy)
+        forward_fraction = check_finite("forward_fraction", forward_fraction)
         if not 0.0 < forward_fraction < 1.0:
             raise ValueError(f"forward_fraction must lie in (0, 1), got {forward_fraction!r}")
         self.dy, self.forward_fraction = float(dy), float(forward_fraction)
@@ -507,8 +506,7 @@ class FourierProfile(Profile):
     kind = "fourier"
 
     def __init__(self, dt: float, cos_coeffs, sin_coeffs):
-        check_positive("dt", dt)
-        self.dt = float(dt)
+        self.dt = check_positive("dt", dt)
         self.cos_coeffs = np.asarray(cos_coeffs, dtype=float)
         self.sin_coeffs = np.asarray(sin_coeffs, dtype=float)
         if self.cos_coeffs.shape != self.sin_coeffs.shape or self.cos_coeffs.ndim != 1:
