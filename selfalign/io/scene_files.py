@@ -163,13 +163,13 @@ def scene_from_dict(data: dict, source: str = "<scene>", name: str | None = None
                           events=record.get("events", False), rerun=record.get("rerun", False)),
             name=data.get("name", name or "scene"), si=si, description=data.get("description", ""),
         )
-    except (SceneError, ValueError) as exc:
+    except (ValueError, TypeError) as exc:
         raise SceneError(f"{source}: {exc}") from None
     # The solver and its options are checked here, when the scene is loaded (and so at
     # `snakemake -n`), not first inside the job that simulates it.
     try:
         check_scene(scene)
-    except ValueError as exc:
+    except (ValueError, TypeError) as exc:
         raise SceneError(f"{source}: solver: {exc}") from None
     return scene
 
