@@ -51,6 +51,10 @@ BAD = [
      "record.arcs: does nothing with method 'moreau' (closed-form arcs are the exact solver's)"),
     ("events without events", (BASE, BASE + "solver: {method: moreau}\nrecord: {events: true}\n"),
      "record.events: does nothing with method 'moreau'"),
+    ("si scale without finite units", (BASE, BASE + "si: {mu: 1.0e-300, g: 1.0e-150, L: 1.0e+20}\n"),
+     "si: mu = 1e-300, g = 1e-150, L = 1e+20 give no finite unit of"),
+    ("zone beyond double resolution", ("x_mu: 0.5", "x_mu: 1.0e+308"),
+     "surface: stop zone x_mu = 1e+308 is more than 2**32 times its width w = 0.05"),
     ("max_periods with periods", ("periods: 3", "periods: 3, max_periods: 10"),
      "horizon.max_periods: does nothing with periods: N (it is the budget of until: rest)"),
 ]

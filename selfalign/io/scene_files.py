@@ -128,7 +128,10 @@ def _refuse_idle_keys(data: dict, source: str) -> None:
 def scene_from_dict(data: dict, source: str = "<scene>", name: str | None = None) -> Scene:
     """Build a :class:`Scene` from a dict in the YAML layout, validating it first."""
     validate_scene_dict(data, source)
-    si = SIScale(**data["si"]) if "si" in data else None
+    try:
+        si = SIScale(**data["si"]) if "si" in data else None
+    except ValueError as exc:
+        raise SceneError(f"{source}: {exc}") from None
     if data.get("units") == "si" and si is None:
         raise SceneError(f"{source}: units: 'si' needs an si block with mu, g, L")
 
@@ -167,7 +170,10 @@ def scene_from_dict(data: dict, source: str = "<scene>", name: str | None = None
         if "body" not in data:
             raise SceneError(f"{source}: body.width is required with a stop_zone surface "
                              "(the transition width of eq. 7 is the body width)")
-        surface = StopZone(value(s, "x_mu", "length"), value(data["body"], "width", "length"), s["c_mu"])
+        try:
+            surface = StopZone(value(s, "x_mu", "length"), value(data["body"], "width", "length"), s["c_mu"])
+        except ValueError as exc:
+            raise SceneError(f"{source}: surface: {exc}") from None
     else:
         surface = Uniform()
     f = data.get("friction", {"kind": "coulomb"})

@@ -93,7 +93,7 @@ MAX_ZONE_POSITION = 2.0**32
 def check_zone_position(x_mu, w) -> None:
     """ValueError unless every |x_mu| <= :data:`MAX_ZONE_POSITION` w (scalars or arrays)."""
     x_mu, w = np.broadcast_arrays(np.asarray(x_mu, dtype=float), np.asarray(w, dtype=float))
-    bad = np.abs(x_mu) > MAX_ZONE_POSITION * w
+    bad = np.abs(x_mu) / MAX_ZONE_POSITION > w
     if np.any(bad):
         x, width = float(x_mu[bad].ravel()[0]), float(w[bad].ravel()[0])
         raise ValueError(f"stop zone x_mu = {x!r} is more than 2**32 times its width w = {width!r} from 0: doubles "
