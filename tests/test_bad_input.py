@@ -212,6 +212,8 @@ def test_batch_memory_is_costed_before_allocating():
     ({"max_periods": 1e21}, "max_periods must be an integer in [1, 9.0072e+15]"),
     ({"n_entries": 10**9}, "n_entries = 1,000,000,000 entries for each of 1 setting(s) need about 615 GiB"),
     ({"n_entries": 64.5}, "n_entries must be an integer"),
+    ({"max_periods": 10**9}, "max_periods = 1,000,000,000 for 1 setting(s) x 64 entries is a budget of 6.4e+10 "
+                             "entry-periods, more than the 1e+10 allowed"),
     ({"accumulation_tol": 1e300}, "option accumulation_tol = 1e+300 is more than 1e-06 of the zone width"),
 ])
 def test_positioning_sizes_are_bounded(kw, start):

@@ -67,6 +67,10 @@ MAX_PERIODS = 1000
 #: Largest memory (bytes) a positioning call may need for its entries, estimated before any
 #: work from the number of entries (:func:`positioning_bytes`).
 MEMORY_LIMIT = 2 * 1024**3
+#: Largest budget of a positioning call in entry-periods (settings x n_entries x max_periods): an
+#: entry without an outcome runs the whole budget, at 50 ns (the paper's profile) to a few us
+#: (finite jerk on the zone) per entry-period.  Fig. 17's grid is 6.5e8 (10,201 x 64 x 1000).
+MAX_ENTRY_PERIODS = 10**10
 
 
 def positioning_bytes(entries: int, levels: int) -> int:
@@ -95,7 +99,13 @@ def _check_zone(w, c_mu, n_entries, offset, max_periods, ramp, accumulation_tol,
     check_finite("offset", offset)
     if not 0.0 <= offset < 1.0:
         raise ValueError(f"offset must lie in [0, 1) (fraction of the sample spacing), got {offset!r}")
-    check_integer("max_periods", max_periods)
+    max_periods = check_integer("max_periods", max_periods)
+    budget = settings * n_entries * max_periods
+    if budget > MAX_ENTRY_PERIODS:
+        raise ValueError(f"max_periods = {max_periods:,} for {settings:,} setting(s) x {n_entries:,} entries is a "
+                         f"budget of {budget:.3g} entry-periods, more than the {MAX_ENTRY_PERIODS:.0e} allowed (an "
+                         f"entry without an outcome runs all of it, 50 ns to a few us per entry-period); at most "
+                         f"{MAX_ENTRY_PERIODS // (settings * n_entries):,} periods here")
     check_accumulation_tol(resolve("exact", {"accumulation_tol": accumulation_tol})["accumulation_tol"], w)
 
 
