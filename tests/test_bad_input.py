@@ -191,6 +191,14 @@ def test_profile_index_must_be_integers(index, error, match):
     assert list(res.records["profile"]) == [1, 0]
 
 
+@pytest.mark.parametrize("kw, name", [({"x0": "0.1"}, "x0"), ({"v0": [None]}, "v0"), ({"x0": True}, "x0"),
+                                      ({"x0": 0.0, "x_mu": "0", "w": 0.05, "c_mu": 2.5}, "x_mu")])
+def test_batch_arrays_of_the_wrong_type(kw, name):
+    """Per-member inputs that are not numbers were a numpy conversion error naming nothing."""
+    with pytest.raises(TypeError, match=f"^{name} must be a real number or an array of them"):
+        sa.simulate_batch(FIG18, **{"x0": 0.0, **kw}, until="periods", periods=1)
+
+
 @pytest.mark.parametrize("kw, name", [({"until": "rest", "max_periods": 2**70}, "max_periods"),
                                       ({"until": "periods", "periods": 1e30}, "periods")])
 def test_batch_horizon_is_bounded(kw, name):

@@ -348,6 +348,9 @@ def profile_table(profiles, method: str, phase, options: dict) -> ProfileTable:
     return ProfileTable(R.pack_profiles([row for _, row in rows]), codes.pop())
 
 def _member_array(name, value, size, dtype=float) -> np.ndarray:
+    if np.asarray(value).dtype.kind not in "biuf" or np.asarray(value).dtype.kind == "b" and dtype is float:
+        raise TypeError(f"{name} must be a real number or an array of them, got {np.asarray(value).dtype} "
+                        f"{value!r:.60}")
     arr = np.asarray(value, dtype=dtype)
     try:
         arr = np.broadcast_to(arr, (size,))
