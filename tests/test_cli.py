@@ -148,6 +148,43 @@ def test_bad_input_is_one_line_and_exit_2(args, named):
     assert "Traceback" not in proc.stderr and proc.stdout == ""
 
 
+POSITIONING = ["positioning", *FIG18, "--w", "0.05", "--c-mu", "2.5"]
+
+
+@pytest.mark.parametrize("args, named", [
+    ([*POSITIONING, "--n-entries", "1e9"],
+     "n_entries = 1,000,000,000 entries for each of 1 setting(s) need about 615 GiB"),
+    ([*POSITIONING, "--max-periods", "1e21"], "max_periods must be an integer in [1, 9.0072e+15]"),
+    ([*POSITIONING, "--max-periods", "1000000000000000000000"], "max_periods must be an integer in [1, 9.0072e+15]"),
+    (["simulate", scene("fig07"), "--periods", "1e21"], "horizon.periods must be an integer in [1, 9.0072e+15]"),
+    (["steady-state", "--dt", "1", "--dy", "1", "--y2", "1e20", "--y3", "1.7e308"], "y3 must lie in [1e-30, 1e+30]"),
+    (["steady-state", "--dt", "1", "--dy", "2.2", "--y2", "1e150", "--y3", "5e-324"], "y2 must lie in"),
+    ([*POSITIONING[:-4], "--w", "1e-20", "--c-mu", "2.5", "--si", "1e-300", "1e-150", "1e20"],
+     "si: mu = 1e-300, g = 1e-150, L = 1e+20 give no finite unit of"),
+])
+def test_sizes_and_scales_are_refused_in_one_line(args, named):
+    """--n-entries 1e9 was killed by the kernel at 24 GB, --max-periods 10**21 an OverflowError
+    traceback, extreme profiles leaked numpy RuntimeWarnings to stderr and extreme --si scales
+    ended in ZeroDivisionError.  Expected: one line naming the option and its limit, exit code 2,
+    before any work; no warning, no traceback."""
+    proc = run(*args)
+    assert proc.returncode == 2, proc.stderr
+    assert proc.stderr.count("\n") == 1 and named in proc.stderr, proc.stderr
+    assert "Warning" not in proc.stderr and "Traceback" not in proc.stderr and proc.stdout == ""
+
+
+def test_unwritable_output_directory_fails_before_the_run(tmp_path):
+    """-o into a directory that takes no files failed only after the run (its summary printed).
+    Expected: one line naming the directory, exit code 2, nothing run.  (/proc takes no new files,
+    also for root, for whom a read-only mode would not stop the write.)"""
+    if not os.path.isdir("/proc"):
+        pytest.skip("needs /proc")
+    proc = run("simulate", scene("fig07"), "-o", "/proc/result.h5")
+    assert proc.returncode == 2 and proc.stdout == ""
+    assert proc.stderr.startswith("selfalign simulate: error: Invalid value for '-o' / '--output': cannot write into "
+                                  "directory '/proc'") and proc.stderr.count("\n") == 1
+
+
 def test_debug_shows_the_traceback():
     """--debug prints the traceback of the library's error, then the same line, exit code 2."""
     proc = run("steady-state", *NON_PHYSICAL, "--debug")

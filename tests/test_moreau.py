@@ -163,13 +163,21 @@ def test_fixed_point_non_convergence_is_reported():
 
 @pytest.mark.parametrize("options, word", [
     ({"h": 0.0}, "h"), ({"h": -1e-3}, "h"), ({"h": float("nan")}, "h"), ({"h": float("inf")}, "h"),
-    ({"h": 2.0}, "h"), ({"h": "0.01"}, "h"), ({"h": True}, "h"),
-    ({"iteration": "newton"}, "iteration"), ({"fp_tol": 0.0}, "fp_tol"), ({"fp_max_iter": 0}, "fp_max_iter"),
+    ({"h": 2.0}, "h"), ({"iteration": "newton"}, "iteration"), ({"fp_tol": 0.0}, "fp_tol"),
+    ({"fp_max_iter": 0}, "fp_max_iter"), ({"fp_max_iter": 10**5}, "fp_max_iter"),
 ])
 def test_bad_options_raise(options, word):
     """Bad input raises a one-line ValueError naming the option (DESIGN), before any work:
     h must be finite in (0, dt]."""
     with pytest.raises(ValueError, match=word):
+        sa.simulate(sa.Scene(PROFILE, periods=1), method="moreau", **options)
+
+
+@pytest.mark.parametrize("options, word", [({"h": "0.01"}, "h"), ({"h": True}, "h"),
+                                           ({"steps_per_period": "10"}, "steps_per_period")])
+def test_options_of_the_wrong_type_raise(options, word):
+    """An option of the wrong type is a TypeError naming it (DESIGN), before any work."""
+    with pytest.raises(TypeError, match=f"option {word} must be"):
         sa.simulate(sa.Scene(PROFILE, periods=1), method="moreau", **options)
 
 

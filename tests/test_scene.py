@@ -5,6 +5,7 @@ import math
 import pytest
 import yaml
 
+import selfalign as sa
 from selfalign import SceneError, SIScale, StopZone, load_scene, scene_from_dict
 
 BASE = """\
@@ -36,6 +37,26 @@ BAD = [
     ("phase = 1", ("phase: 0.0", "phase: 1.0"), "start.phase: must be < 1"),
     ("phase < 0", ("phase: 0.0", "phase: -0.1"), "start.phase: must be >= 0"),
     ("not a mapping", (BASE, "- a\n- b\n"), "a scene must be a mapping"),
+    ("duplicate key", (BASE, BASE + "surface: {kind: uniform}\n"),
+     "key 'surface' at line 6 is given already at line 2 (a key may appear once in a mapping)"),
+    ("duplicate inner key", ("c_mu: 2.5}", "c_mu: 2.5, x_mu: 0.7}"), "key 'x_mu' at line 2 is given already at line 2"),
+    ("underscore in a number", ("dt: 1.05", "dt: 1_05"),
+     "profile.dt: expected number, got str '1_05' (YAML 1.2 reads it as text: write the number without '_' or ':')"),
+    ("sexagesimal", ("periods: 3", "periods: 1:30"), "horizon.periods: expected integer, got str '1:30' (YAML 1.2"),
+    ("YAML 1.1 boolean", (BASE, BASE + "record: {events: yes}\n"),
+     "record.events: expected boolean, got str 'yes' (YAML 1.2: the booleans are true and false)"),
+    ("body on a uniform surface", ("kind: stop_zone, x_mu: 0.5, c_mu: 2.5", "kind: uniform"),
+     "body: does nothing on a uniform surface (the body width is the transition width of a stop zone, eq. 7)"),
+    ("arcs without arcs", (BASE, BASE + "solver: {method: moreau}\nrecord: {arcs: true}\n"),
+     "record.arcs: does nothing with method 'moreau' (closed-form arcs are the exact solver's)"),
+    ("events without events", (BASE, BASE + "solver: {method: moreau}\nrecord: {events: true}\n"),
+     "record.events: does nothing with method 'moreau'"),
+    ("si scale without finite units", (BASE, BASE + "si: {mu: 1.0e-300, g: 1.0e-150, L: 1.0e+20}\n"),
+     "si: mu = 1e-300, g = 1e-150, L = 1e+20 give no finite unit of"),
+    ("zone beyond double resolution", ("x_mu: 0.5", "x_mu: 1.0e+308"),
+     "surface: stop zone x_mu = 1e+308 is more than 2**32 times its width w = 0.05"),
+    ("max_periods with periods", ("periods: 3", "periods: 3, max_periods: 10"),
+     "horizon.max_periods: does nothing with periods: N (it is the budget of until: rest)"),
 ]
 
 
@@ -59,6 +80,36 @@ def test_bad_scene_is_one_line_naming_file_and_key(tmp_path, case, edit, expecte
     message = str(info.value)
     assert "\n" not in message
     assert message.startswith(f"{path}: {expected}"), message
+
+
+@pytest.mark.parametrize("old, new, value", [("dt: 1.05", "dt: 105e-2", 1.05), ("x0: 0.0", "x0: 1e-3", 1e-3),
+                                            ("x0: 0.0", "x0: -2E3", -2000.0), ("x0: 0.0", "x0: 010", 10.0)])
+def test_numbers_are_read_as_yaml_1_2_numbers(tmp_path, old, new, value):
+    """YAML 1.1 (PyYAML's resolver) read 1e-3 and -2E3 as strings ("got str", no dot) and 010 as
+    octal 8; a scene file is YAML 1.2: they are the numbers 0.001, -2000 and 10."""
+    path = tmp_path / "s.yaml"
+    path.write_text(BASE.replace(old, new))
+    scene = load_scene(path)
+    assert (scene.profile.dt if old.startswith("dt") else scene.x0) == value
+
+
+def test_record_arcs_reaches_the_trajectory(tmp_path):
+    """record.arcs was dropped by the loader (never passed to Record): the exact solver's arc log
+    is now kept, as for a Scene built in Python with Record(arcs=True)."""
+    path = tmp_path / "s.yaml"
+    path.write_text(BASE + "record: {arcs: true}\n")
+    scene = load_scene(path)
+    assert scene.record.arcs
+    assert len(sa.simulate(scene).arcs) > 0
+
+
+def test_binary_file_is_named(tmp_path):
+    """A binary file failed with a UnicodeDecodeError naming no file; now one SceneError line."""
+    path = tmp_path / "blob.yaml"
+    path.write_bytes(b"\x89PNG\r\n\x1a\n\x00\xff" * 8)
+    with pytest.raises(SceneError) as info:
+        load_scene(path)
+    assert str(info.value) == f"{path}: not a scene file: not UTF-8 text (byte 0x89 at offset 0)"
 
 
 def test_missing_file_is_named(tmp_path):
@@ -122,7 +173,7 @@ def test_si_without_block_is_rejected():
     {"profile": {"kind": "polynomial", "dt": 0.05, "dy": 0.02, "forward_fraction": 0.7},
      "horizon": {"until": "rest", "max_periods": 50},
      "solver": {"method": "moreau", "options": {"h": 1e-4}},
-     "record": {"series": ["x", "v"], "samples_per_period": 50, "events": True, "rerun": True}},
+     "record": {"series": ["x", "v"], "samples_per_period": 50, "rerun": True}},
     {"profile": {"kind": "fourier", "dt": 0.072, "cos_coeffs": [0.01, 0.0], "sin_coeffs": [0.0, 0.002]},
      "horizon": {"periods": 1}, "description": "two harmonics"},
 ], ids=["stop_zone", "si", "polynomial_rest", "fourier"])

@@ -44,13 +44,13 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ..model.errors import check_finite, check_positive
+from ..model.errors import check_finite, check_integer, check_positive
 from ..model.friction import FrictionLaw, StopZone, stick_limit, stick_limits
 from ..model.profiles import FiniteJerkProfile, ThreePhaseProfile, three_phase_times
 from ..progress import Progress, resolve_mode
 from ..solvers.driver import ProfileTable, profile_table, simulate_batch
 from ..solvers.exact import piecewise_rows
-from ..solvers.methods import MethodChoice, most_exact_method, resolve
+from ..solvers.methods import MethodChoice, check_accumulation_tol, most_exact_method, resolve
 from ..solvers.outcomes import STATUS_CODES, Status
 from ..solvers.records import EXACT_PIECEWISE
 from .classification import check_parameters
@@ -64,23 +64,49 @@ from .stick_map import stick_map, stick_map_validity
 CHUNK_MEMBERS = 16_384
 #: Default period budget: runs without an outcome by then are reported undecided.
 MAX_PERIODS = 1000
+#: Largest memory (bytes) a positioning call may need for its entries, estimated before any
+#: work from the number of entries (:func:`positioning_bytes`).
+MEMORY_LIMIT = 2 * 1024**3
+#: Largest budget of a positioning call in entry-periods (settings x n_entries x max_periods): an
+#: entry without an outcome runs the whole budget, at 50 ns (the paper's profile) to a few us
+#: (finite jerk on the zone) per entry-period.  Fig. 17's grid is 6.5e8 (10,201 x 64 x 1000).
+MAX_ENTRY_PERIODS = 10**10
 
 
-def _check_zone(w, c_mu, n_entries, offset, max_periods, ramp):
-    check_positive("w", w)
+def positioning_bytes(entries: int, levels: int) -> int:
+    """Bytes a positioning call needs for ``entries`` entries (settings x n_entries) and
+    ``levels`` accumulation levels: the peak measured with tracemalloc (643 bytes per entry and
+    56 per entry and level, from one setting x 131,072 entries to 400 x 256), rounded up."""
+    return entries * (660 + 60 * levels)
+
+
+def _check_zone(w, c_mu, n_entries, offset, max_periods, ramp, accumulation_tol, settings=1, levels=0):
+    """Check the zone and sampling options of ``settings`` settings before any work."""
+    w = check_positive("w", w)
     if not 0.0 <= check_finite("ramp", ramp):
         raise ValueError(f"ramp must be >= 0 (the y'' ramp time of a finite-jerk profile; 0: the paper's), "
                          f"got {ramp!r}")
     check_finite("c_mu", c_mu)
     if c_mu <= 1.0:
         raise ValueError(f"c_mu must be > 1 (a high-friction zone), got {c_mu!r}")
-    if int(n_entries) != n_entries or n_entries < 1:
-        raise ValueError(f"n_entries must be an integer >= 1, got {n_entries!r}")
+    n_entries = check_integer("n_entries", n_entries)
+    need = positioning_bytes(settings * n_entries, levels)
+    if need > MEMORY_LIMIT:
+        raise ValueError(f"n_entries = {n_entries:,} entries for each of {settings:,} setting(s) need about "
+                         f"{need / 1024**3:.3g} GiB, more than the {MEMORY_LIMIT / 1024**3:g} GiB allowed (about "
+                         f"{positioning_bytes(1, levels)} bytes per entry); at most "
+                         f"{MEMORY_LIMIT // positioning_bytes(settings, levels):,} entries per setting")
     check_finite("offset", offset)
     if not 0.0 <= offset < 1.0:
         raise ValueError(f"offset must lie in [0, 1) (fraction of the sample spacing), got {offset!r}")
-    if int(max_periods) != max_periods or max_periods < 1:
-        raise ValueError(f"max_periods must be an integer >= 1, got {max_periods!r}")
+    max_periods = check_integer("max_periods", max_periods)
+    budget = settings * n_entries * max_periods
+    if budget > MAX_ENTRY_PERIODS:
+        raise ValueError(f"max_periods = {max_periods:,} for {settings:,} setting(s) x {n_entries:,} entries is a "
+                         f"budget of {budget:.3g} entry-periods, more than the {MAX_ENTRY_PERIODS:.0e} allowed (an "
+                         f"entry without an outcome runs all of it, 50 ns to a few us per entry-period); at most "
+                         f"{MAX_ENTRY_PERIODS // (settings * n_entries):,} periods here")
+    check_accumulation_tol(resolve("exact", {"accumulation_tol": accumulation_tol})["accumulation_tol"], w)
 
 
 def _check_levels(levels):
@@ -297,7 +323,7 @@ def _positioning(profile, w, c_mu, n_entries, offset, max_periods, accumulation_
     """(per-entry runs of the one setting, Positioning) with the level crossings of ``levels``."""
     if not isinstance(profile, ThreePhaseProfile):
         raise ValueError(f"positioning needs a ThreePhaseProfile, got {type(profile).__name__}")
-    _check_zone(w, c_mu, n_entries, offset, max_periods, ramp)
+    _check_zone(w, c_mu, n_entries, offset, max_periods, ramp, accumulation_tol, 1, levels.size)
     arrays = [np.array([v]) for v in (profile.dt, profile.dy, profile.y2, profile.y3)]
     if ramp > 0.0:
         setting_profile(*(float(a[0]) for a in arrays), float(ramp))  # raises if the ramps do not fit
@@ -381,12 +407,11 @@ def positioning_grid(dt, dy, y2, y3, *, w: float, c_mu: float, n_entries: int = 
     > 1 splits the settings over that many worker processes.  ``progress``: how the
     settings done are reported (:mod:`selfalign.progress`: "auto", "bar", "log", "quiet").
     """
-    _check_zone(w, c_mu, n_entries, offset, max_periods, ramp)
     levels = _check_levels(levels) if np.size(levels) else np.empty(0)
-    if int(processes) != processes or processes < 1:
-        raise ValueError(f"processes must be an integer >= 1, got {processes!r}")
+    processes = check_integer("processes", processes, 1, 1024)
     resolve_mode(progress)
     arrays = check_parameters(dt, dy, y2, y3)
+    _check_zone(w, c_mu, n_entries, offset, max_periods, ramp, accumulation_tol, arrays[0].size, levels.size)
     shape = arrays[0].shape
     flat = [a.ravel() for a in arrays]
     ss, idx, runs, method = _simulate_settings(*flat, float(w), float(c_mu), int(n_entries), float(offset),

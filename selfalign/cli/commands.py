@@ -12,6 +12,7 @@ import functools
 import json
 import math
 import sys
+import tempfile
 import traceback
 from dataclasses import asdict
 from pathlib import Path
@@ -77,10 +78,44 @@ def reported(command):
 
 
 def output_path(_ctx, param, value: Path | None) -> Path | None:
-    """An output file whose directory exists (checked before the run, not after it)."""
-    if value is not None and not value.parent.is_dir():
+    """An output file in a directory that exists and takes new files (checked before the run, not
+    after it: a probe file is created there and removed; an unnamed one where the OS allows)."""
+    if value is None:
+        return value
+    if not value.parent.is_dir():
         raise click.BadParameter(f"directory {str(value.parent)!r} does not exist", param=param)
+    try:
+        with tempfile.TemporaryFile(dir=value.parent):
+            pass
+    except OSError as exc:
+        raise click.BadParameter(f"cannot write into directory {str(value.parent)!r} ({exc.strerror})",
+                                 param=param) from None
     return value
+
+
+class Count(click.ParamType):
+    """A count >= 1, also written as an integral float (``1e6``); its upper bound is the library's,
+    which names the limit."""
+
+    name = "integer"
+
+    def convert(self, value, param, ctx):
+        if isinstance(value, int):
+            number = value
+        else:
+            try:
+                number = int(value)
+            except ValueError:
+                try:
+                    real = float(value)
+                except ValueError:
+                    real = math.nan
+                if not (math.isfinite(real) and real.is_integer()):
+                    self.fail(f"{value!r} is not an integer", param, ctx)
+                number = int(real)
+        if number < 1:
+            self.fail(f"{value!r} is not >= 1", param, ctx)
+        return number
 
 
 @click.group(invoke_without_command=True, no_args_is_help=False,
@@ -100,7 +135,7 @@ def selfalign(ctx: click.Context) -> None:
 @click.option("--method", type=click.Choice(METHODS),
               help="Solver (Sect. 4.1); default: the scene's. Another method than the scene's runs with its "
                    "default options.")
-@click.option("--periods", type=click.IntRange(min=1),
+@click.option("--periods", type=Count(),
               help="Simulate exactly N periods instead of the scene's horizon.")
 @click.option("--rerun", "rerun_file", type=click.Path(dir_okay=False, path_type=Path), callback=output_path,
               help="Write a rerun recording (.rrd) of the recorded series; the scene must record some.")
@@ -252,11 +287,11 @@ def steady_state_command(dt, dy, y2, y3, si, as_json) -> None:
 @profile_options
 @click.option("--w", type=float, required=True, help="Body width = transition width of the zone (eq. 7).")
 @click.option("--c-mu", type=float, required=True, help="Friction ratio of the stop zone, > 1 (eq. 7).")
-@click.option("--n-entries", type=click.IntRange(min=1), default=64, show_default=True,
+@click.option("--n-entries", type=Count(), default=64, show_default=True,
               help="Steady-state entries sampled over one period (Sect. 7.1).")
 @click.option("--offset", type=float, default=0.5, show_default=True,
               help="Where in its spacing each entry is sampled, in [0, 1).")
-@click.option("--max-periods", type=click.IntRange(min=1), default=MAX_PERIODS, show_default=True,
+@click.option("--max-periods", type=Count(), default=MAX_PERIODS, show_default=True,
               help="Period budget; entries without an outcome by then count as undecided.")
 @click.option("--json", "as_json", is_flag=True, help="Print JSON (null for NaN and infinity).")
 @debug_option

@@ -8,6 +8,7 @@ naming the file and the key.
 
 from __future__ import annotations
 
+import functools
 import math
 from functools import lru_cache
 from importlib import resources
@@ -51,6 +52,19 @@ def first_non_finite(data, path=()):
     return None
 
 
+def _yaml12_hint(value) -> str:
+    """Why a value a YAML 1.1 reader would take for a number or boolean is text here (YAML 1.2)."""
+    if not isinstance(value, str):
+        return ""
+    import re
+
+    if value.lower() in ("yes", "no", "on", "off", "y", "n"):
+        return " (YAML 1.2: the booleans are true and false)"
+    if re.fullmatch(r"[-+]?[0-9][0-9_:]*(\.[0-9_]*)?([eE][-+]?[0-9]+)?", value) and ("_" in value or ":" in value):
+        return " (YAML 1.2 reads it as text: write the number without '_' or ':')"
+    return ""
+
+
 def schema_error_message(error) -> str:
     """One line for a jsonschema error: key, problem and what is allowed."""
     key = _key(error.absolute_path)
@@ -62,7 +76,8 @@ def schema_error_message(error) -> str:
     if kind == "required":
         return f"{key}: {error.message}"
     if kind == "type":
-        return f"{key}: expected {error.validator_value}, got {type(error.instance).__name__} {error.instance!r}"
+        return (f"{key}: expected {error.validator_value}, got {type(error.instance).__name__} {error.instance!r}"
+                f"{_yaml12_hint(error.instance)}")
     if kind == "enum":
         return f"{key}: {error.instance!r} is not allowed; allowed: {', '.join(map(str, error.validator_value))}"
     if kind == "not" and "required" in error.validator_value:
@@ -91,10 +106,32 @@ def validate_scene_dict(data, source: str = "<scene>") -> None:
         raise SceneError(f"{source}: {schema_error_message(error)}")
 
 
+def _refuse_idle_keys(data: dict, source: str) -> None:
+    """SceneError for a key that would do nothing in this scene (it would be ignored silently)."""
+    surface = data.get("surface", {"kind": "uniform"})["kind"]
+    method = data.get("solver", {}).get("method", "exact")
+    record, horizon = data.get("record", {}), data["horizon"]
+    if "body" in data and surface != "stop_zone":
+        raise SceneError(f"{source}: body: does nothing on a {surface} surface (the body width is the transition "
+                         f"width of a stop zone, eq. 7); remove it or give surface kind stop_zone")
+    if record.get("arcs") and method != "exact":
+        raise SceneError(f"{source}: record.arcs: does nothing with method {method!r} (closed-form arcs are the exact "
+                         f"solver's); remove it or use method exact")
+    if record.get("events") and method == "moreau":
+        raise SceneError(f"{source}: record.events: does nothing with method 'moreau' (time-stepping locates no "
+                         f"events); remove it or use method exact or ivp")
+    if "max_periods" in horizon and "periods" in horizon:
+        raise SceneError(f"{source}: horizon.max_periods: does nothing with periods: N (it is the budget of until: "
+                         f"rest); remove one of them")
+
+
 def scene_from_dict(data: dict, source: str = "<scene>", name: str | None = None) -> Scene:
     """Build a :class:`Scene` from a dict in the YAML layout, validating it first."""
     validate_scene_dict(data, source)
-    si = SIScale(**data["si"]) if "si" in data else None
+    try:
+        si = SIScale(**data["si"]) if "si" in data else None
+    except ValueError as exc:
+        raise SceneError(f"{source}: {exc}") from None
     if data.get("units") == "si" and si is None:
         raise SceneError(f"{source}: units: 'si' needs an si block with mu, g, L")
 
@@ -127,12 +164,16 @@ def scene_from_dict(data: dict, source: str = "<scene>", name: str | None = None
     except ValueError as exc:
         raise SceneError(f"{source}: profile: {exc}") from None
 
+    _refuse_idle_keys(data, source)
     s = data.get("surface", {"kind": "uniform"})
     if s["kind"] == "stop_zone":
         if "body" not in data:
             raise SceneError(f"{source}: body.width is required with a stop_zone surface "
                              "(the transition width of eq. 7 is the body width)")
-        surface = StopZone(value(s, "x_mu", "length"), value(data["body"], "width", "length"), s["c_mu"])
+        try:
+            surface = StopZone(value(s, "x_mu", "length"), value(data["body"], "width", "length"), s["c_mu"])
+        except ValueError as exc:
+            raise SceneError(f"{source}: surface: {exc}") from None
     else:
         surface = Uniform()
     f = data.get("friction", {"kind": "coulomb"})
@@ -160,36 +201,114 @@ def scene_from_dict(data: dict, source: str = "<scene>", name: str | None = None
             method=solver.get("method", "exact"), solver_options=dict(solver.get("options", {})),
             record=Record(series=tuple(record.get("series", ())),
                           samples_per_period=record.get("samples_per_period", 200),
-                          events=record.get("events", False), rerun=record.get("rerun", False)),
+                          events=record.get("events", False), arcs=record.get("arcs", False),
+                          rerun=record.get("rerun", False)),
             name=data.get("name", name or "scene"), si=si, description=data.get("description", ""),
         )
-    except (SceneError, ValueError) as exc:
+    except (ValueError, TypeError) as exc:
         raise SceneError(f"{source}: {exc}") from None
     # The solver and its options are checked here, when the scene is loaded (and so at
     # `snakemake -n`), not first inside the job that simulates it.
     try:
         check_scene(scene)
-    except ValueError as exc:
+    except (ValueError, TypeError) as exc:
         raise SceneError(f"{source}: solver: {exc}") from None
     return scene
 
 
+#: YAML 1.2 (core schema) plain scalars that are not strings; everything else is a string.
+#: PyYAML resolves YAML 1.1, where ``1e-3`` is a string (no dot), ``1_05`` is 105, ``010`` is 8,
+#: ``1:30`` is 90 and ``yes``/``on`` are true.
+_YAML12 = {
+    "tag:yaml.org,2002:null": (r"^(?:~|null|Null|NULL|)$", "~nN"),
+    "tag:yaml.org,2002:bool": (r"^(?:true|True|TRUE|false|False|FALSE)$", "tTfF"),
+    "tag:yaml.org,2002:int": (r"^(?:[-+]?[0-9]+|0o[0-7]+|0x[0-9a-fA-F]+)$", "-+0123456789"),
+    "tag:yaml.org,2002:float": (r"^(?:[-+]?(?:\.[0-9]+|[0-9]+(?:\.[0-9]*)?)(?:[eE][-+]?[0-9]+)?"
+                                r"|[-+]?\.(?:inf|Inf|INF)|\.(?:nan|NaN|NAN))$", "-+.0123456789"),
+}
+
+
+class DuplicateKey(Exception):
+    """A key given twice in one YAML mapping (its line and the first one's)."""
+
+
+@functools.cache
+def _strict_loader():
+    """A PyYAML SafeLoader that reads plain scalars as YAML 1.2 does (:data:`_YAML12`) and
+    refuses a key given twice in a mapping (PyYAML keeps the last one silently)."""
+    import re
+
+    import yaml
+
+    class StrictLoader(yaml.SafeLoader):
+        def construct_mapping(self, node, deep=False):
+            if isinstance(node, yaml.MappingNode):
+                seen = {}
+                for key_node, _ in node.value:
+                    if key_node.tag == "tag:yaml.org,2002:merge":
+                        continue
+                    key = self.construct_object(key_node, deep=True)
+                    if not isinstance(key, (str, int, float)):
+                        continue                # an unhashable key: construct_mapping names it
+                    line = key_node.start_mark.line + 1
+                    if key in seen:
+                        raise DuplicateKey(f"key {key!r} at line {line} is given already at line {seen[key]} (a "
+                                           f"key may appear once in a mapping)")
+                    seen[key] = line
+            return super().construct_mapping(node, deep=deep)
+
+        def construct_yaml_int(self, node):
+            text = self.construct_scalar(node)
+            base = 8 if text.startswith("0o") else 16 if text.startswith("0x") else 10
+            return int(text[2:] if base != 10 else text, base)
+
+        def construct_yaml_float(self, node):
+            text = self.construct_scalar(node).lower().lstrip("+")
+            special = {".inf": math.inf, "-.inf": -math.inf, ".nan": math.nan}
+            return special[text] if text in special else float(text)
+
+    keep = {tag for tag, _ in _YAML12.values()} | set(_YAML12)
+    StrictLoader.yaml_implicit_resolvers = {
+        first: [(tag, regexp) for tag, regexp in resolvers if tag not in keep and tag != "tag:yaml.org,2002:timestamp"]
+        for first, resolvers in yaml.SafeLoader.yaml_implicit_resolvers.items()}
+    for tag, (pattern, first) in _YAML12.items():
+        StrictLoader.add_implicit_resolver(tag, re.compile(pattern), list(first) + ([""] if tag.endswith("null")
+                                                                                     else []))
+    StrictLoader.add_constructor("tag:yaml.org,2002:int", StrictLoader.construct_yaml_int)
+    StrictLoader.add_constructor("tag:yaml.org,2002:float", StrictLoader.construct_yaml_float)
+    return StrictLoader
+
+
+def parse_yaml(text: str):
+    """``text`` read as YAML 1.2 with every key once (:func:`_strict_loader`): the one YAML reader of
+    scene files and design specs.  Raises yaml.YAMLError or :class:`DuplicateKey`."""
+    import yaml
+
+    return yaml.load(text, Loader=_strict_loader())
+
+
 def read_yaml(path, error: type[ValueError], what: str):
-    """The YAML content of ``path``; ``error`` with one line naming the file if it cannot be
-    read or parsed (``what``: "scene file", "design spec", ...)."""
+    """The YAML content of ``path`` (:func:`parse_yaml`); ``error`` with one line naming the file if
+    it cannot be read, is not UTF-8 text, or cannot be parsed (``what``: "scene file", "design spec", ...)."""
     import yaml
 
     path = Path(path)
     try:
-        text = path.read_text()
+        text = path.read_text(encoding="utf-8")
     except OSError as exc:
         raise error(f"{path}: cannot read {what} ({exc.strerror})") from None
+    except UnicodeDecodeError as exc:
+        raise error(f"{path}: not a {what}: not UTF-8 text (byte {exc.object[exc.start]:#04x} at offset "
+                    f"{exc.start})") from None
     try:
-        return yaml.safe_load(text)
+        return parse_yaml(text)
+    except DuplicateKey as exc:
+        raise error(f"{path}: {exc}") from None
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         where = f" at line {mark.line + 1}" if mark else ""
-        raise error(f"{path}: not valid YAML{where}") from None
+        problem = getattr(exc, "problem", None) or getattr(exc, "reason", None)
+        raise error(f"{path}: not valid YAML{where}" + (f" ({problem})" if problem else "")) from None
 
 
 def load_scene(path) -> Scene:

@@ -34,11 +34,25 @@ def require_extra(module: str, extra: str, needed_by: str) -> None:
                           f"pip install 'selfalign[{extra}]'")
 
 
+def check_real(name: str, value) -> float:
+    """Return ``value`` as a float, or raise TypeError naming ``name`` unless it is a real number.
+
+    A real number is an ``int``, a ``float`` or a numpy integer or floating scalar (anything
+    registered as :class:`numbers.Real`, e.g. ``fractions.Fraction``).  Refused: ``bool``,
+    ``decimal.Decimal`` (not a :class:`numbers.Real`: its arithmetic with floats raises),
+    strings, and numpy arrays of any shape, 0-d and size-1 included (a parameter is one number,
+    so an array there is taken for a mix-up rather than unwrapped).
+    """
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise TypeError(f"{name} must be a real number (int, float or numpy scalar), got {value!r} "
+                        f"({type(value).__name__})")
+    return float(value)
+
+
 def check_finite(name: str, value) -> float:
-    """Return ``value`` as a float, or raise naming ``name`` if it is not a finite number."""
-    if isinstance(value, bool) or not isinstance(value, (int, float)) and not hasattr(value, "__float__"):
-        raise ValueError(f"{name} must be a finite number, got {value!r}")
-    value = float(value)
+    """Return ``value`` as a float: TypeError unless it is a real number (:func:`check_real`),
+    ValueError unless it is finite."""
+    value = check_real(name, value)
     if not math.isfinite(value):
         raise ValueError(f"{name} must be a finite number, got {value!r}")
     return value
@@ -55,11 +69,13 @@ def check_positive(name: str, value) -> float:
 def check_integer(name: str, value, low: int = 1, high: int = 2**53) -> int:
     """Return ``value`` as an int, or raise unless it is an integer in [low, high].
 
-    bools, non-integral or non-finite floats and strings are refused; an integral float
-    (``10.0``) is accepted.
+    TypeError unless it is a real number (:func:`check_real`); ValueError for a non-integral
+    or non-finite value or one outside [low, high].  An integral float (``10.0``, ``1e6``)
+    is accepted.  The default ``high``, 2**53, is the largest count a double holds exactly.
     """
-    integral = isinstance(value, numbers.Integral) or (isinstance(value, float) and math.isfinite(value)
-                                                        and value.is_integer())
-    if isinstance(value, bool) or not integral or not low <= value <= high:
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise TypeError(f"{name} must be an integer, got {value!r} ({type(value).__name__})")
+    integral = isinstance(value, numbers.Integral) or math.isfinite(value) and float(value).is_integer()
+    if not integral or not low <= value <= high:
         raise ValueError(f"{name} must be an integer in [{low}, {high:.6g}], got {value!r}")
     return int(value)

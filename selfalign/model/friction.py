@@ -84,6 +84,23 @@ def stick_limit(max_acceleration: float, w: float, c_mu: float) -> float:
 #: :func:`stick_limit` elementwise on broadcast arrays (the design search and the positioning grid).
 stick_limits = np.vectorize(stick_limit, otypes=[float])
 
+#: Largest |x_mu| / w of a stop zone: positions are reported as x_mu + xi, and doubles near
+#: |x_mu| = 2**32 w are 2**-20 w apart, so beyond it they resolve the transition width w of
+#: eqs. (7-9) in fewer than a million steps (x_mu = 1e308 with w = 0.05: not at all).
+MAX_ZONE_POSITION = 2.0**32
+
+
+def check_zone_position(x_mu, w) -> None:
+    """ValueError unless every |x_mu| <= :data:`MAX_ZONE_POSITION` w (scalars or arrays)."""
+    x_mu, w = np.broadcast_arrays(np.asarray(x_mu, dtype=float), np.asarray(w, dtype=float))
+    bad = np.abs(x_mu) / MAX_ZONE_POSITION > w
+    if np.any(bad):
+        x, width = float(x_mu[bad].ravel()[0]), float(w[bad].ravel()[0])
+        raise ValueError(f"stop zone x_mu = {x!r} is more than 2**32 times its width w = {width!r} from 0: doubles "
+                         f"there are {np.spacing(abs(x)):.3g} apart and cannot resolve the transition of width w "
+                         f"(eqs. 7-9) in the positions x_mu + xi; put the origin near the zone (positions are "
+                         f"relative)")
+
 
 class Uniform:
     """Uniform Coulomb friction, mu_bar(x) = 1 everywhere."""
@@ -126,6 +143,7 @@ class StopZone:
             raise ValueError(f"c_mu must be >= 1 (the zone has higher friction), got {c_mu!r}")
         if not math.isfinite(self.b1):
             raise ValueError(f"the transition slope (c_mu - 1) / w overflows for c_mu = {c_mu!r}, w = {w!r}")
+        check_zone_position(self.x_mu, self.w)
 
     @property
     def b1(self) -> float:

@@ -28,6 +28,23 @@ CASE_LABELS = {
 }
 #: Case code of a finite-jerk setting whose ramps do not fit its phases (FiniteJerkProfile refuses it).
 RAMPS_TOO_LONG = -1
+#: The parameters dt, dy, y2, y3 of a three-phase or polynomial profile lie in [1 / MAX_SCALE, MAX_SCALE].
+#: They are in units of the friction scale (Sect. 3.2: accelerations in mu g, lengths in L, times in
+#: sqrt(L / (mu g))), so 30 decades either way leave friction irrelevant or all-dominant; and the
+#: closed forms of the steady state, the classification and the Floquet multipliers (Sects. 4.4.3,
+#: 5, 6.1) multiply several of them: in 1,500 random feasible profiles with parameters up to 1e+-60
+#: (the steady-state and positioning commands) none overflowed, up to 1e+-100 some did (numpy overflow
+#: warnings and inf in place of numbers).
+MAX_SCALE = 1e30
+
+
+def check_scale(name: str, value) -> float:
+    """``value`` as a float: a real number (TypeError otherwise) in [1 / MAX_SCALE, MAX_SCALE]."""
+    value = check_positive(name, value)
+    if not 1.0 / MAX_SCALE <= value <= MAX_SCALE:
+        raise ValueError(f"{name} must lie in [{1.0 / MAX_SCALE:g}, {MAX_SCALE:g}] (dimensionless, in units of the "
+                         f"friction scale of Sect. 3.2), got {value!r}")
+    return value
 
 
 class Profile:
@@ -209,8 +226,8 @@ class ThreePhaseProfile(PiecewiseConstantProfile):
     kind = "three_phase"
 
     def __init__(self, dt: float, dy: float, y2: float, y3: float):
-        for name, value in (("dt", dt), ("dy", dy), ("y2", y2), ("y3", y3)):
-            check_positive(name, value)
+        dt, dy, y2, y3 = (check_scale(name, value) for name, value in (("dt", dt), ("dy", dy), ("y2", y2),
+                                                                        ("y3", y3)))
         q = float(three_phase_feasibility(dt, dy, y2, y3))
         if q > 1.0:
             raise NonPhysicalProfile(
@@ -461,8 +478,8 @@ class FiniteJerkProfile(PiecewiseLinearProfile):
 
     def __init__(self, dt: float, dy: float, y2: float, y3: float, ramp: float | None = None,
                  jerk: float | None = None):
-        for name, value in (("dt", dt), ("dy", dy), ("y2", y2), ("y3", y3)):
-            check_positive(name, value)
+        dt, dy, y2, y3 = (check_scale(name, value) for name, value in (("dt", dt), ("dy", dy), ("y2", y2),
+                                                                        ("y3", y3)))
         ta, tb, tc = ramp_times(dt, y2, y3, ramp, jerk)
         sol = finite_jerk_times(dt, dy, y2, y3, ta, tb, tc)
         if not 0.0 < float(sol.q) <= 1.0:
@@ -511,9 +528,8 @@ class PolynomialProfile(PiecewiseConstantProfile):
     kind = "polynomial"
 
     def __init__(self, dt: float, dy: float, forward_fraction: float = 0.8):
-        check_positive("dt", dt)
-        check_positive("dy", dy)
-        check_finite("forward_fraction", forward_fraction)
+        dt, dy = check_scale("dt", dt), check_scale("dy", dy)
+        forward_fraction = check_finite("forward_fraction", forward_fraction)
         if not 0.0 < forward_fraction < 1.0:
             raise ValueError(f"forward_fraction must lie in (0, 1), got {forward_fraction!r}")
         self.dy, self.forward_fraction = float(dy), float(forward_fraction)
@@ -545,8 +561,7 @@ class FourierProfile(Profile):
     kind = "fourier"
 
     def __init__(self, dt: float, cos_coeffs, sin_coeffs):
-        check_positive("dt", dt)
-        self.dt = float(dt)
+        self.dt = check_positive("dt", dt)
         self.cos_coeffs = np.asarray(cos_coeffs, dtype=float)
         self.sin_coeffs = np.asarray(sin_coeffs, dtype=float)
         if self.cos_coeffs.shape != self.sin_coeffs.shape or self.cos_coeffs.ndim != 1:

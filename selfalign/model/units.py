@@ -24,6 +24,14 @@ class SIScale:
     def __post_init__(self):
         for name in ("mu", "g", "L"):
             check_positive(f"si.{name}", getattr(self, name))
+        for kind in self.DIMENSIONS:   # every unit a finite positive double, so conversions never divide by 0
+            try:
+                unit = self.unit(kind)
+            except (OverflowError, ZeroDivisionError):
+                unit = math.nan
+            if not (math.isfinite(unit) and unit > 0.0):
+                raise ValueError(f"si: mu = {self.mu!r}, g = {self.g!r}, L = {self.L!r} give no finite unit of {kind} "
+                                 f"(L^a (L / (mu g))^(b/2), Sect. 3.2); choose a scale nearer the problem's")
 
     @property
     def T(self) -> float:

@@ -18,13 +18,14 @@ import time
 
 import numpy as np
 
-from ..model.friction import FrictionLaw, StopZone, coefficient
+from ..model.errors import check_integer
+from ..model.friction import FrictionLaw, StopZone, check_zone_position, coefficient
 from ..model.profiles import Profile
 from ..model.scene import Scene
 from . import exact, moreau
 from . import records as R
 from .jit import call, kernel
-from .methods import check_scene, friction_refused, resolve
+from .methods import check_accumulation_tol, check_moreau_work, check_scene, friction_refused, resolve
 from .outcomes import MAX_CYCLE, Reason, Status
 from .results import BatchResult, Trajectory, outcome_message
 
@@ -347,6 +348,9 @@ def profile_table(profiles, method: str, phase, options: dict) -> ProfileTable:
     return ProfileTable(R.pack_profiles([row for _, row in rows]), codes.pop())
 
 def _member_array(name, value, size, dtype=float) -> np.ndarray:
+    if np.asarray(value).dtype.kind not in "biuf" or np.asarray(value).dtype.kind == "b" and dtype is float:
+        raise TypeError(f"{name} must be a real number or an array of them, got {np.asarray(value).dtype} "
+                        f"{value!r:.60}")
     arr = np.asarray(value, dtype=dtype)
     try:
         arr = np.broadcast_to(arr, (size,))
@@ -358,13 +362,39 @@ def _member_array(name, value, size, dtype=float) -> np.ndarray:
     return np.array(arr)
 
 
-def _horizon(until, periods, max_periods) -> tuple[int, int]:
+def _horizon(until, periods, max_periods) -> tuple[int, int, str]:
+    """(until code, horizon in periods, the name of the option that gave it)."""
     if until not in R.UNTIL_CODES:
         raise ValueError(f"until must be one of {list(R.UNTIL_CODES)}, got {until!r}")
     value, name = (periods, "periods") if until == "periods" else (max_periods, "max_periods")
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < 1:
-        raise ValueError(f"{name} must be an integer >= 1, got {value!r}")
-    return R.UNTIL_CODES[until], int(value)
+    if value is None:
+        raise ValueError(f"until = {until!r} needs {name}, an integer >= 1")
+    return R.UNTIL_CODES[until], check_integer(name, value), name
+
+
+#: Largest memory (bytes) of the records a :func:`simulate_batch` call allocates for its members,
+#: estimated from the member count before any is allocated (:func:`batch_bytes`).
+BATCH_MEMORY_LIMIT = 2 * 1024**3
+
+
+def batch_bytes(members: int, boundaries: int) -> int:
+    """Bytes :func:`simulate_batch` allocates for ``members`` members with ``boundaries`` recorded
+    crossings each: the member record, a crossing record and three floats per boundary (the
+    boundary, its relative position and its level), and eight per-member float arrays."""
+    return members * (R.MEMBER_DTYPE.itemsize + boundaries * (R.CROSS_DTYPE.itemsize + 24) + 64)
+
+
+def _profile_index(value, size: int, table_size: int) -> np.ndarray:
+    """Each member's profile: integers (or integral floats) in [0, table_size)."""
+    index = np.asarray(value)
+    if index.dtype.kind not in "iuf":
+        raise TypeError(f"profile_index must hold integers, got dtype {index.dtype}")
+    if index.dtype.kind == "f" and not np.all(np.isfinite(index) & (index == np.round(index))):
+        bad = index[~(np.isfinite(index) & (index == np.round(index)))].ravel()[0]
+        raise ValueError(f"profile_index must hold integers (indices into the profiles), got {float(bad)!r}")
+    if np.any((index < 0) | (index >= table_size)):
+        raise ValueError(f"profile_index must lie in [0, {table_size})")
+    return _member_array("profile_index", index.astype(np.int64), size, np.int64)
 
 
 def simulate_batch(profiles, x0, v0=0.0, phase=0.0, *, profile_index=None, surface=None, x_mu=None, w=None,
@@ -396,7 +426,7 @@ def simulate_batch(profiles, x0, v0=0.0, phase=0.0, *, profile_index=None, surfa
         raise ValueError(refused)
     if method == "ivp":
         raise ValueError("simulate_batch runs the compiled methods 'exact' and 'moreau'; use simulate for 'ivp'")
-    until_code, total = _horizon(until, periods, max_periods)
+    until_code, total, horizon_name = _horizon(until, periods, max_periods)
     if isinstance(max_cycle, bool) or not isinstance(max_cycle, numbers.Integral) or not 1 <= max_cycle <= 1024:
         raise ValueError(f"max_cycle must be an integer in [1, 1024], got {max_cycle!r}")
     table = profile_table(profiles, method, phase, options)
@@ -409,10 +439,15 @@ def simulate_batch(profiles, x0, v0=0.0, phase=0.0, *, profile_index=None, surfa
     if len(shape) > 1:
         raise ValueError(f"per-member inputs must be scalars or 1-D, got shape {shape}")
     size = shape[0] if shape else 1
+    n_levels = 0 if levels is None else np.shape(levels)[-1] if np.ndim(levels) else 1
+    need = batch_bytes(size, 2 * (x_mu is not None or isinstance(surface, StopZone)) + n_levels)
+    if need > BATCH_MEMORY_LIMIT:
+        raise ValueError(f"simulate_batch: {size:,} members need about {need / 1024**3:.3g} GiB of records, more "
+                         f"than the {BATCH_MEMORY_LIMIT / 1024**3:g} GiB allowed per call; simulate them in parts")
+    if method == "moreau":
+        check_moreau_work(int(table.rows[0, R.DATA]), total, horizon_name)
     index = (np.arange(size) if table.size > 1 and profile_index is None
-             else _member_array("profile_index", 0 if profile_index is None else profile_index, size, np.int64))
-    if np.any((index < 0) | (index >= table.size)):
-        raise ValueError(f"profile_index must lie in [0, {table.size})")
+             else _profile_index(0 if profile_index is None else profile_index, size, table.size))
     dt = table.rows[index, R.DT]
     members = _records(R.MEMBER_DTYPE, size)
     x0 = _member_array("x0", x0, size)
@@ -435,7 +470,10 @@ def simulate_batch(profiles, x0, v0=0.0, phase=0.0, *, profile_index=None, surfa
         w_arr, c_arr = _member_array("w", w, size), _member_array("c_mu", c_mu, size)
         if np.any(w_arr <= 0.0) or np.any(c_arr < 1.0):
             raise ValueError("stop zone: w must be > 0 and c_mu >= 1")
+        check_zone_position(origin, w_arr)
         members["zone"] = c_arr > 1.0
+        if members["zone"].any():
+            check_accumulation_tol(options["accumulation_tol"], float(w_arr[members["zone"]].min()))
         members["w"] = np.where(members["zone"], w_arr, np.inf)
         members["c_mu"] = c_arr
     members["profile"] = index

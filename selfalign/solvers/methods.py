@@ -17,18 +17,49 @@ from typing import Callable
 
 from ..model.friction import StopZone
 from ..model.profiles import FourierProfile, PiecewiseLinearProfile
+from . import records as R
 
 #: Most Moreau steps per period: the table impulses of one period are kept in memory
 #: (8 bytes each), and more steps than this would take hours per period anyway.
 MAX_STEPS_PER_PERIOD = 10_000_000
+#: Most Moreau steps of one run (periods of the horizon x steps per period), checked before
+#: the run: the scheme has no event budget, so its horizon is its work.  Measured on one core:
+#: 2-4 ns per step (Coulomb friction, exact iteration), 11 ns (fixed-point iteration), 39 ns
+#: (Stribeck friction), so 1e10 steps take 20 s to 7 min; the default (10,000 periods x 1000) is 1e7.
+MAX_MOREAU_STEPS = 10**10
+#: Largest ``max_events`` (exact and ivp): event budgets of one run beyond this are refused.
+#: The exact solver needs 10 ns (piecewise-constant y'', uniform surface) to 0.5 us (finite jerk on
+#: a stop zone) per event, so 1e10 events are minutes to hours; the default is 5e7 (ivp: 1e6).
+MAX_EVENTS = 10**10
+#: Largest ``fp_max_iter``: sweeps of the fixed-point iteration per Moreau step (default 200;
+#: it converges linearly, and a step that needs more is reported, not hidden).
+MAX_FP_ITERATIONS = 10_000
+#: Largest ``accumulation_tol`` as a fraction of the zone width w.  An accumulation is
+#: declared at a stick within the tolerance of x_stick_min (eq. 41) and reported at
+#: x_stick_min, so a tolerance is an accepted position error: on 2,209 random three-phase
+#: settings x 3 zones x 32 entries (positioning_grid), tolerances up to 1e-5 w left every x_d
+#: unchanged, while 1e-4 w and 1e-3 w moved x_d by 2.4 and 4 times the tolerance (sticks
+#: short of x_stick_min taken for converged although the mass slid on to rest beyond it).
+#: Tolerances below 64 ulp of w are raised to that (outcomes.ACC_TOL_ULPS); the default,
+#: :data:`ACCUMULATION_TOL`, is accepted for any w.
+MAX_ACCUMULATION_TOL = 1e-6
+#: Default ``accumulation_tol`` of every method (absolute, dimensionless length).
+ACCUMULATION_TOL = 1e-12
 #: The integrators of scipy.integrate.solve_ivp the ivp method can use.
 INTEGRATORS = ("RK23", "RK45", "DOP853", "Radau", "BDF", "LSODA")
 #: Iterations of the implicit Moreau step.
 ITERATIONS = ("exact", "fixed_point")
 
 
+def _type(name, value, what):
+    """TypeError unless ``value`` is a real number (not a bool): the option's ``what``."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise TypeError(f"option {name} must be {what}, got {value!r} ({type(value).__name__})")
+
+
 def _real(name, value, low=0.0, high=math.inf, low_open=True, high_open=True):
-    ok = isinstance(value, numbers.Real) and not isinstance(value, bool) and math.isfinite(value)
+    _type(name, value, "a real number (int, float or numpy scalar)")
+    ok = math.isfinite(value)
     ok = ok and (value > low if low_open else value >= low) and (value < high if high_open else value <= high)
     if not ok:
         lo = f"{'>' if low_open else '>='} {low:g}"
@@ -37,10 +68,12 @@ def _real(name, value, low=0.0, high=math.inf, low_open=True, high_open=True):
     return float(value)
 
 
-def _integer(name, value, low=1):
-    if isinstance(value, bool) or not (isinstance(value, numbers.Integral)
-                                       or isinstance(value, float) and value.is_integer()) or value < low:
-        raise ValueError(f"option {name} must be an integer >= {low}, got {value!r}")
+def _integer(name, value, high, low=1):
+    """``value`` as an int: an integer (or integral float, ``1e6``) in [low, high]."""
+    _type(name, value, "an integer")
+    if not (isinstance(value, numbers.Integral) or math.isfinite(value) and float(value).is_integer()) \
+            or not low <= value <= high:
+        raise ValueError(f"option {name} must be an integer in [{low}, {high:,}], got {value!r}")
     return int(value)
 
 
@@ -101,27 +134,28 @@ def _moreau_h(name, value):
 
 METHODS = {
     "exact": Method("exact", "event-driven, closed-form arcs and event times", {
-        "accumulation_tol": Option(1e-12, lambda n, v: _real(n, v),
+        "accumulation_tol": Option(ACCUMULATION_TOL, lambda n, v: _real(n, v),
                                    "an accumulation ends within this distance of x_stick_min"),
-        "max_events": Option(50_000_000, lambda n, v: _integer(n, v), "event budget of the run"),
+        "max_events": Option(50_000_000, lambda n, v: _integer(n, v, MAX_EVENTS), "event budget of the run"),
     }, _exact_refuses),
     "moreau": Method("moreau", "Moreau midpoint time-stepping with the exact table impulse of each step", {
         "h": Option(None, _moreau_h, "time step (adjusted down to dt / N); None: dt / 1000"),
-        "steps_per_period": Option(None, lambda n, v: None if v is None else _integer(n, v),
+        "steps_per_period": Option(None, lambda n, v: None if v is None else _integer(n, v, MAX_STEPS_PER_PERIOD),
                                    "N steps per period instead of h (h = dt / N); not with h"),
         "iteration": Option("exact", lambda n, v: _choice(n, v, ITERATIONS),
                             "implicit friction step: exact soft threshold or the paper's fixed-point iteration"),
         "fp_tol": Option(1e-14, lambda n, v: _real(n, v), "fixed-point iteration: stop when v changes by <= this"),
-        "fp_max_iter": Option(200, lambda n, v: _integer(n, v), "fixed-point iteration: most sweeps per step"),
-        "accumulation_tol": Option(1e-12, lambda n, v: _real(n, v),
+        "fp_max_iter": Option(200, lambda n, v: _integer(n, v, MAX_FP_ITERATIONS),
+                              "fixed-point iteration: most sweeps per step"),
+        "accumulation_tol": Option(ACCUMULATION_TOL, lambda n, v: _real(n, v),
                                    "an accumulation ends within this distance of the scheme's x_stick_min"),
     }),
     "ivp": Method("ivp", "scipy.integrate.solve_ivp mode by mode with event location", {
         "rtol": Option(1e-8, lambda n, v: _real(n, v, 0.0, 1.0), "relative tolerance of solve_ivp"),
         "atol": Option(1e-10, lambda n, v: _real(n, v), "absolute tolerance of solve_ivp"),
         "integrator": Option("DOP853", lambda n, v: _choice(n, v, INTEGRATORS), "solve_ivp method"),
-        "max_events": Option(1_000_000, lambda n, v: _integer(n, v), "event budget of the run"),
-        "accumulation_tol": Option(1e-12, lambda n, v: _real(n, v),
+        "max_events": Option(1_000_000, lambda n, v: _integer(n, v, MAX_EVENTS), "event budget of the run"),
+        "accumulation_tol": Option(ACCUMULATION_TOL, lambda n, v: _real(n, v),
                                    "an accumulation ends within this distance of x_stick_min"),
     }),
 }
@@ -175,8 +209,35 @@ def check_scene(scene, method: str | None = None, options: dict | None = None) -
     if reason:
         raise ValueError(reason)
     if method == "moreau":
-        moreau_step(scene.profile.dt, options)
+        from .moreau import profile_row  # the row's impulses show what the steps resolve
+
+        n = int(profile_row(scene.profile, scene.phase, options)[R.DATA])
+        check_moreau_work(n, scene.horizon_periods, "horizon.periods" if scene.until == "periods"
+                          else "horizon.max_periods")
+    if isinstance(scene.surface, StopZone):
+        check_accumulation_tol(options["accumulation_tol"], scene.surface.w)
     return options
+
+
+def check_accumulation_tol(tol: float, w: float) -> None:
+    """ValueError if the option ``accumulation_tol`` exceeds :data:`MAX_ACCUMULATION_TOL` of
+    the zone width ``w`` (the narrowest zone of a batch) and the default :data:`ACCUMULATION_TOL`."""
+    limit = max(MAX_ACCUMULATION_TOL * w, ACCUMULATION_TOL)
+    if tol > limit:
+        raise ValueError(f"option accumulation_tol = {tol!r} is more than {MAX_ACCUMULATION_TOL:g} of the zone "
+                         f"width w = {w!r} (at most {limit:.6g}): an accumulation ends at a stick "
+                         f"within accumulation_tol of x_stick_min (eq. 41) and reports x_stick_min, so a coarser "
+                         f"tolerance takes sticks short of it for converged where the mass may still slide on")
+
+
+def check_moreau_work(n: int, periods: int, name: str) -> None:
+    """ValueError if ``periods`` periods (the horizon option ``name``) of ``n`` Moreau steps
+    exceed :data:`MAX_MOREAU_STEPS`, naming the option, the estimate and the limit."""
+    if n * periods > MAX_MOREAU_STEPS:
+        raise ValueError(f"method moreau: {name} = {periods:,} periods at {n:,} steps per period is up to "
+                         f"{n * periods:.3g} steps, more than the {MAX_MOREAU_STEPS:.0e} allowed per run (Moreau has "
+                         f"no event budget: its horizon is its work, 4-40 ns per step); shorten the horizon to at "
+                         f"most {MAX_MOREAU_STEPS // n:,} periods or take fewer steps per period")
 
 
 def moreau_step(dt: float, options: dict) -> tuple[int, float]:
