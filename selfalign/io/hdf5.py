@@ -8,9 +8,14 @@ the destination directory, flushed to disk, and only then renamed over the
 destination in one step.  The helper is generic so that figures and rerun
 recordings use the same guarantee.
 
-:func:`write_h5` also makes its output byte-for-byte deterministic (HDF5
-object timestamps are switched off), so that re-running a step with the same
-inputs yields an identical file and content hashes stay meaningful.
+Reproducibility.  :func:`write_h5` makes its output byte-for-byte
+deterministic: no HDF5 object timestamps (``track_times=False`` on the file and
+every dataset), objects and attributes in the order the content names them,
+and no measured value (CPU or wall-clock time) outside the datasets marked
+``measurement = True`` (:mod:`selfalign.io.quantities`).  So two runs with the
+same inputs on the same commit give files that differ only in the data of
+those datasets, and :func:`reproducible_bytes`, which zeroes exactly those
+bytes, gives the same bytes for both.
 
 Self-description
 ----------------
@@ -52,7 +57,7 @@ import numpy as np
 import yaml
 
 from ..model.units import SIScale
-from .quantities import quantity
+from .quantities import MEASUREMENT_ATTR, quantity
 
 #: Prefix of attribute strings that hold a JSON-encoded value.
 JSON_PREFIX = "json:"
@@ -187,6 +192,30 @@ def _documentation(content: dict, where: str, si: SIScale | None) -> dict[str, d
     for name, sub in subgroups.items():
         found.update(_documentation(sub, f"{where}/{name}", si))
     return found
+
+
+def measured_datasets(path) -> list[str]:
+    """Paths of the datasets of an HDF5 file marked as measured values (``measurement = True``)."""
+    return [name for name, attrs in read_dataset_attrs(path).items() if attrs.get(MEASUREMENT_ATTR) is True]
+
+
+def reproducible_bytes(path) -> bytes:
+    """The bytes of the HDF5 file ``path`` with the data of every measured dataset
+    (:func:`measured_datasets`) set to zero: the same for two writes of one result.
+
+    Only the stored values are zeroed (at their offsets in the file, so nothing else moves);
+    every other byte, metadata and attributes included, is compared as written."""
+    data = bytearray(Path(path).read_bytes())
+    with h5py.File(path, "r") as f:
+        for name in measured_datasets(path):
+            dsid = f[name].id
+            size = dsid.get_storage_size()
+            if size:
+                offset = dsid.get_offset()
+                if offset is None:
+                    raise ValueError(f"{path}: measured dataset {name!r} is not stored contiguously")
+                data[offset:offset + size] = bytes(size)
+    return bytes(data)
 
 
 def _write_group(group: h5py.Group, content: dict, where: str, documented: dict[str, dict]) -> None:
