@@ -9,13 +9,17 @@ Hypotheses:
 * two writes of one result give HDF5 files that are byte-identical once the data of the
   datasets marked ``measurement = True`` are zeroed in place
   (:func:`selfalign.io.hdf5.reproducible_bytes`); every CPU or wall-clock time, and every
-  number computed from one, is such a dataset (never an attribute).
+  number computed from one, is such a dataset (never an attribute);
+* a write killed with SIGKILL leaves its temporary file, named for its process; the next
+  write to the same target removes it, and leaves the temporary file of a live writer alone.
 """
 
 import os
 import re
+import signal
 import subprocess
 import sys
+from pathlib import Path
 
 import h5py
 import numpy as np
@@ -26,11 +30,12 @@ from rerun.chunk import RrdReader
 
 from selfalign import load_scene, simulate
 from selfalign.analysis.accuracy import StudySettings, study
-from selfalign.io import quantities
+from selfalign.io import hdf5, quantities
 from selfalign.io.hdf5 import (
     measured_datasets,
     read_dataset_attrs,
     read_h5,
+    remove_stale_temporaries,
     reproducible_bytes,
     write_h5,
 )
@@ -137,6 +142,77 @@ def test_every_time_quantity_is_a_marked_measurement():
     for kind in quantities.MEASURED_KINDS:
         with pytest.raises(ValueError, match=f"kind '{kind}' is measured: pass measurement=True"):
             quantities.Quantity(kind, "a time")
+
+
+KILLED_WRITER = """
+import sys, time
+from pathlib import Path
+import h5py, numpy as np
+from selfalign.io.hdf5 import atomic_write
+
+def writer(tmp):
+    with h5py.File(tmp, "w") as f:
+        f["t"] = np.zeros(100_000)
+        f.flush()
+        print(tmp, flush=True)
+        time.sleep(300)
+
+atomic_write(Path(sys.argv[1]), writer)
+"""
+
+
+def test_next_write_removes_the_temporary_file_of_a_killed_writer(tmp_path):
+    """Two processes write out.h5 and stop halfway; one is killed with SIGKILL (its temporary file
+    stays: nothing can remove it then).  The next write to out.h5 removes that file, keeps the
+    live writer's, and leaves a complete result; once that writer is killed too, the write after
+    leaves nothing but out.h5."""
+    target = tmp_path / "out.h5"
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(filter(None, [str(REPO), os.environ.get("PYTHONPATH")]))}
+    writers, temporaries = [], []
+    try:
+        for _ in range(2):
+            proc = subprocess.Popen([sys.executable, "-c", KILLED_WRITER, str(target)], stdout=subprocess.PIPE,
+                                    text=True, env=env)
+            writers.append(proc)
+            temporaries.append(Path(proc.stdout.readline().strip()))
+        for proc, tmp in zip(writers, temporaries):
+            assert tmp.parent == tmp_path and tmp.is_file(), tmp
+            assert re.fullmatch(rf"\.out\.h5\.[A-Za-z0-9-]+\.{proc.pid}\.[0-9a-f]+\.tmp", tmp.name), tmp.name
+        killed, alive = writers
+        killed.kill()
+        killed.wait(timeout=30)
+        assert killed.returncode == -signal.SIGKILL and temporaries[0].exists()
+
+        write_h5(target, {"t": [1.0, 2.0]})
+        assert sorted(p.name for p in tmp_path.iterdir()) == sorted([target.name, temporaries[1].name])
+        assert read_h5(target)["datasets"]["t"].tolist() == [1.0, 2.0]
+
+        alive.kill()
+        alive.wait(timeout=30)
+        write_h5(target, {"t": [3.0]})
+        assert [p.name for p in tmp_path.iterdir()] == [target.name]
+    finally:
+        for proc in writers:
+            if proc.poll() is None:
+                proc.kill()
+                proc.wait(timeout=30)
+            proc.stdout.close()
+
+
+def test_stale_temporaries_of_other_targets_and_hosts_are_kept(tmp_path):
+    """Only the temporary files of the target being written, left by processes of this host that no
+    longer run, are removed: a file of another target, another host or this process stays."""
+    dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True,
+                          text=True, check=True)
+    pid = int(dead.stdout)
+    target, host = tmp_path / "out.h5", hdf5._host()
+    ours = tmp_path / f".out.h5.{host}.{pid}.00ff.tmp"
+    kept = [tmp_path / f".other.h5.{host}.{pid}.00ff.tmp", tmp_path / f".out.h5.elsewhere-{host}.{pid}.00ff.tmp",
+            tmp_path / f".out.h5.{host}.{os.getpid()}.00ff.tmp"]
+    for path in (ours, *kept):
+        path.write_bytes(b"partial")
+    assert remove_stale_temporaries(target) == [ours]
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(p.name for p in kept)
 
 
 @pytest.fixture(scope="module")
