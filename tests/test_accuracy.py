@@ -179,9 +179,9 @@ def test_result_layout_is_documented(repo, studies):
 
     readme = (repo / "README.md").read_text()
     text = re.search(r"^## Results\n(.*?)(?=^## )", readme, re.S | re.M).group(1)
-    _, (_, attrs, groups) = studies["accuracy_stop"]
-    names = list(attrs) + list(groups["exact"]["attrs"])
-    names += [n for g in ("moreau", "ivp") for n in groups[g]["datasets"]]
+    _, (datasets, attrs, groups) = studies["accuracy_stop"]
+    names = list(datasets) + list(attrs) + list(groups["exact"]["attrs"])
+    names += [n for g in ("moreau", "ivp", "exact") for n in groups[g]["datasets"]]
     for name in names:
         assert f"`{name}`" in text, name
     for group in groups:

@@ -233,18 +233,20 @@ def study(scene: Scene, settings: StudySettings = StudySettings(), *, progress: 
     Layout: root attributes with the derived numbers (``moreau_order`` with its
     95 % interval ``moreau_order_low/high``, the order of the vbar error
     ``moreau_order_vbar`` and the number of fitted runs ``moreau_fit_points``;
-    ``moreau_h_at_target``, ``moreau_cpu_at_target``, ``target_interpolated``,
-    ``speed_ratio_at_target``; ``ivp_max_err_over_rtol``;
-    ``exact_events_per_second``; ``rounding_level_position`` = 4 eps max|x| and
+    ``moreau_h_at_target``, ``target_interpolated``; ``ivp_max_err_over_rtol``;
+    ``rounding_level_position`` = 4 eps max|x| and
     ``rounding_level_vbar`` = 2 rounding_level_position / dt; ``x_ref_end``,
     ``vbar_ref``; ``target_error``; ``settings``; ``scene_name``, ``scene``; ``reference``,
-    :func:`reference_text` of the reference, ``exact`` unless the scene names another); group
-    ``moreau`` with datasets ``h``, ``steps_per_period`` and the :func:`_table`
-    columns; group ``ivp`` with ``rtol``, ``atol`` and the same columns; group
-    ``exact`` with attributes ``cpu_time``, ``x_end``, ``vbar``, ``steps``,
-    ``events``, ``status``, ``fast_forward_periods``, ``events_run_events``,
-    ``events_run_cpu_time``.  ``progress`` reports the runs (:mod:`selfalign.progress`); it is
-    called between the timed calls, never inside one.
+    :func:`reference_text` of the reference, ``exact`` unless the scene names another); root
+    datasets ``moreau_cpu_at_target``, ``speed_ratio_at_target`` and
+    ``exact_events_per_second``; group ``moreau`` with datasets ``h``, ``steps_per_period``
+    and the :func:`_table` columns; group ``ivp`` with ``rtol``, ``atol`` and the same
+    columns; group ``exact`` with attributes ``x_end``, ``vbar``, ``steps``, ``events``,
+    ``status``, ``fast_forward_periods``, ``events_run_events`` and datasets ``cpu_time``,
+    ``events_run_cpu_time``.  Every CPU time and what is computed from one is a dataset
+    marked as a measurement (:mod:`selfalign.io.quantities`), never an attribute, so that two
+    studies of one scene are byte-identical apart from those datasets.  ``progress`` reports
+    the runs (:mod:`selfalign.progress`); it is called between the timed calls, never inside one.
     """
     import yaml
 
@@ -304,18 +306,21 @@ def study(scene: Scene, settings: StudySettings = StudySettings(), *, progress: 
         "moreau_order_vbar": order_v,
         "moreau_fit_points": int(use.sum()),
         "moreau_h_at_target": h_target,
-        "moreau_cpu_at_target": cpu_target,
         "target_interpolated": inside,
-        "speed_ratio_at_target": cpu_target / ref.cpu_time,
         "ivp_max_err_over_rtol": float(np.max(i_table["err_end_position"] / rtols)),
-        "exact_events_per_second": events_run / best,
+    }
+    measured = {
+        "moreau_cpu_at_target": np.float64(cpu_target),
+        "speed_ratio_at_target": np.float64(cpu_target / ref.cpu_time),
+        "exact_events_per_second": np.float64(events_run / best),
     }
     groups = {
         "moreau": {"datasets": {"h": h, "steps_per_period": steps_per_period, **m_table}},
         "ivp": {"datasets": {"rtol": rtols, "atol": atols, **i_table}},
-        "exact": {"attrs": {"cpu_time": ref.cpu_time, "x_end": ref.x_end, "vbar": ref.vbar,
+        "exact": {"attrs": {"x_end": ref.x_end, "vbar": ref.vbar,
                             "steps": ref.steps, "events": ref.events, "status": ref.status,
                             "fast_forward_periods": ref.fast_forward_periods,
-                            "events_run_events": events_run, "events_run_cpu_time": best}},
+                            "events_run_events": events_run},
+                  "datasets": {"cpu_time": np.float64(ref.cpu_time), "events_run_cpu_time": np.float64(best)}},
     }
-    return {}, attrs, groups
+    return measured, attrs, groups

@@ -505,8 +505,9 @@ class Design:
         cand = Candidates(*(np.array([v]) for v in (self.period, self.stroke, self.y2, self.y3, self.c_mu)))
         return ThreePhaseProfile(*(float(a[0]) for a in dimensionless(self.spec, cand, mu)))
 
-    def report(self) -> str:
-        """The design as text: inputs, profile, performance, guarantee, assumptions."""
+    def report(self, *, timed: bool = True) -> str:
+        """The design as text: inputs, profile, performance, guarantee, assumptions; ``timed``:
+        end with the search's wall-clock time (a measurement, left out of result files)."""
         lines = [f"design {self.spec.name}: {self.spec.describe()}"]
         if not self.found:
             lines.append(f"NO GUARANTEED DESIGN: {self.explanation}")
@@ -545,7 +546,8 @@ class Design:
             + (f", {self.search['ramps_do_not_fit']} physical ones dropped (the ramps do not fit)" if self.spec.ramp
                else "")
             + f", {self.search['screened']} pass the closed forms (the paper's model: a heuristic ranking where "
-            f"effects are declared), {self.search['verified']} simulated, {self.search['seconds']:.2g} s",
+            f"effects are declared), {self.search['verified']} simulated"
+            + (f", {self.search['seconds']:.2g} s" if timed else ""),
         ]
         return "\n".join(lines)
 

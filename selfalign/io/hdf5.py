@@ -8,9 +8,25 @@ the destination directory, flushed to disk, and only then renamed over the
 destination in one step.  The helper is generic so that figures and rerun
 recordings use the same guarantee.
 
-:func:`write_h5` also makes its output byte-for-byte deterministic (HDF5
-object timestamps are switched off), so that re-running a step with the same
-inputs yields an identical file and content hashes stay meaningful.
+Temporary files.  A writer that is killed (SIGKILL, out of memory, node
+failure) cannot remove its temporary file.  The temporary file must lie in
+the destination's directory (a rename across file systems is not atomic), so
+instead it is named for its writer, ``.<target>.<host>.<pid>.<random>.tmp``
+(:func:`temporary_name`), and every write to a target first removes the
+temporary files of that target left by processes of this host that no longer
+run (:func:`remove_stale_temporaries`).  Such a file is never taken for a
+result in the meantime: it is hidden and ends in ``.tmp``, which no result
+name or glob matches.  A temporary file of a live process, or of a process on
+another host sharing the file system, is left alone.
+
+Reproducibility.  :func:`write_h5` makes its output byte-for-byte
+deterministic: no HDF5 object timestamps (``track_times=False`` on the file and
+every dataset), objects and attributes in the order the content names them,
+and no measured value (CPU or wall-clock time) outside the datasets marked
+``measurement = True`` (:mod:`selfalign.io.quantities`).  So two runs with the
+same inputs on the same commit give files that differ only in the data of
+those datasets, and :func:`reproducible_bytes`, which zeroes exactly those
+bytes, gives the same bytes for both.
 
 Self-description
 ----------------
@@ -41,7 +57,9 @@ from __future__ import annotations
 import functools
 import json
 import os
+import re
 import secrets
+import socket
 import subprocess
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
@@ -52,7 +70,7 @@ import numpy as np
 import yaml
 
 from ..model.units import SIScale
-from .quantities import quantity
+from .quantities import MEASUREMENT_ATTR, quantity
 
 #: Prefix of attribute strings that hold a JSON-encoded value.
 JSON_PREFIX = "json:"
@@ -66,6 +84,44 @@ _INT64 = np.iinfo(np.int64)
 _GROUP_KEYS = {"datasets", "attrs", "groups"}
 
 
+def _host() -> str:
+    """This host's name in the characters a file name can always hold."""
+    return re.sub(r"[^A-Za-z0-9-]", "-", socket.gethostname()) or "host"
+
+
+def temporary_name(path: Path) -> str:
+    """The name of a temporary file for ``path`` written by this process:
+    ``.<name>.<host>.<pid>.<random>.tmp`` (the random part keeps two writes of one process apart)."""
+    return f".{path.name}.{_host()}.{os.getpid()}.{secrets.token_hex(4)}.tmp"
+
+
+def _running(pid: int) -> bool:
+    """Whether a process ``pid`` runs on this host (one of another user counts)."""
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
+
+
+def remove_stale_temporaries(path) -> list[Path]:
+    """Remove the temporary files of ``path`` (:func:`temporary_name`) whose writer, a process of
+    this host, no longer runs; return them.  A pid reused since only keeps a file until a later
+    write; files of other hosts are left alone (their processes cannot be checked from here)."""
+    path = Path(path)
+    pattern = re.compile(re.escape(f".{path.name}.{_host()}.") + r"(\d+)\.[0-9a-f]+\.tmp")
+    removed = []
+    if path.parent.is_dir():
+        for candidate in path.parent.iterdir():
+            match = pattern.fullmatch(candidate.name)
+            if match and not _running(int(match[1])):
+                candidate.unlink(missing_ok=True)
+                removed.append(candidate)
+    return removed
+
+
 @contextmanager
 def atomic_path(path) -> Iterator[Path]:
     """Yield a temporary path to write ``path``'s content to.
@@ -75,13 +131,16 @@ def atomic_path(path) -> Iterator[Path]:
     removed and ``path`` is left untouched.  The temporary file lives in the
     same directory (a rename across file systems would not be atomic), is
     hidden (starts with ".") and ends in ".tmp" so that no glob for real
-    outputs matches it.  Writers that pick a format from the file extension
-    (e.g. ``Figure.savefig``) must be told the format explicitly.  Missing
-    parent directories are created.
+    outputs matches it; it is named for this process (:func:`temporary_name`),
+    and those of ``path`` left by killed writers are removed first
+    (:func:`remove_stale_temporaries`).  Writers that pick a format from the
+    file extension (e.g. ``Figure.savefig``) must be told the format
+    explicitly.  Missing parent directories are created.
     """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.parent / f".{path.name}.{secrets.token_hex(6)}.tmp"
+    remove_stale_temporaries(path)
+    tmp = path.parent / temporary_name(path)
     try:
         yield tmp
         _fsync(tmp)
@@ -187,6 +246,30 @@ def _documentation(content: dict, where: str, si: SIScale | None) -> dict[str, d
     for name, sub in subgroups.items():
         found.update(_documentation(sub, f"{where}/{name}", si))
     return found
+
+
+def measured_datasets(path) -> list[str]:
+    """Paths of the datasets of an HDF5 file marked as measured values (``measurement = True``)."""
+    return [name for name, attrs in read_dataset_attrs(path).items() if attrs.get(MEASUREMENT_ATTR) is True]
+
+
+def reproducible_bytes(path) -> bytes:
+    """The bytes of the HDF5 file ``path`` with the data of every measured dataset
+    (:func:`measured_datasets`) set to zero: the same for two writes of one result.
+
+    Only the stored values are zeroed (at their offsets in the file, so nothing else moves);
+    every other byte, metadata and attributes included, is compared as written."""
+    data = bytearray(Path(path).read_bytes())
+    with h5py.File(path, "r") as f:
+        for name in measured_datasets(path):
+            dsid = f[name].id
+            size = dsid.get_storage_size()
+            if size:
+                offset = dsid.get_offset()
+                if offset is None:
+                    raise ValueError(f"{path}: measured dataset {name!r} is not stored contiguously")
+                data[offset:offset + size] = bytes(size)
+    return bytes(data)
 
 
 def _write_group(group: h5py.Group, content: dict, where: str, documented: dict[str, dict]) -> None:

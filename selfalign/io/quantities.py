@@ -16,6 +16,14 @@ values ``"1 (code; see legend)"``.  When the file was made from a scene
 with an SI scale (:class:`selfalign.model.units.SIScale`), a dataset of one
 physical dimension also gets ``si_units`` (e.g. ``"m/s"``) and ``si_factor``,
 the SI value of one model unit (stored value x si_factor = SI value).
+
+Measurements.  A result holds what follows from its inputs, which two runs reproduce bit for
+bit, and at most a few measured values (CPU and wall-clock times and what is derived from
+them), which differ between runs and machines.  A measured value is always a dataset of a
+:class:`Quantity` with ``measurement=True``, never an attribute: its dataset gets the attribute
+``measurement = True`` and its description ends with :data:`MEASUREMENT_NOTE`.  So two writes
+of one result are byte-identical once the data of the marked datasets are set aside
+(:func:`selfalign.io.hdf5.reproducible_bytes`).
 """
 
 from __future__ import annotations
@@ -40,6 +48,8 @@ LABELS = {
     "boolean": "1 (boolean)",
     "text": "text",
     "cpu_time": "s (CPU time)",
+    "wall_time": "s (wall-clock time)",
+    "cpu_rate": "1/s (per second of CPU time)",
     "friction": "1 (dimensionless: in units of the maximum friction force mu m g)",
     "state": "L for x, L/T for x'" + _MODEL,
     "monodromy": "[[1, T], [1/T, 1]] for (x, x')" + _MODEL,
@@ -54,28 +64,42 @@ EVENT_LEGEND = {int(k): k.name for k in EventKind}
 STATUS_LEGEND = {code: status.value for status, code in STATUS_CODES.items()}
 REASON_LEGEND = {int(r): r.name.lower() for r in Reason}
 CASE_LEGEND = dict(CASE_LABELS)
+#: Kinds that only a measurement has.
+MEASURED_KINDS = ("cpu_time", "wall_time", "cpu_rate")
+#: Dataset attribute that marks a measured value, and the sentence its description ends with.
+MEASUREMENT_ATTR = "measurement"
+MEASUREMENT_NOTE = ("A measured value: it differs between runs and machines (everything else in the file is "
+                    "reproduced bit for bit).")
 
 
 @dataclass(frozen=True)
 class Quantity:
-    """One dataset's kind (a key of DIMENSIONS or LABELS), meaning and, for codes, legend."""
+    """One dataset's kind (a key of DIMENSIONS or LABELS), meaning, for codes its legend, and
+    whether it is a measured value (module docstring; the :data:`MEASURED_KINDS` always are)."""
 
     kind: str
     description: str
     legend: Mapping[int, str] | None = None
+    measurement: bool = False
 
     def __post_init__(self):
         if self.kind not in DIMENSIONS and self.kind not in LABELS:
             raise ValueError(f"unknown quantity kind {self.kind!r}; allowed: {sorted({**DIMENSIONS, **LABELS})}")
         if (self.kind == "code") != (self.legend is not None):
             raise ValueError(f"{self.description!r}: a legend goes with kind 'code' and only with it")
+        if self.kind in MEASURED_KINDS and not self.measurement:
+            raise ValueError(f"{self.description!r}: kind {self.kind!r} is measured: pass measurement=True")
 
     def attrs(self, si: SIScale | None = None) -> dict:
-        """The dataset attributes: ``units``, ``description``, ``legend`` and, with ``si``, the SI unit."""
+        """The dataset attributes: ``units``, ``description``, ``legend``, ``measurement`` (only
+        on a measured value) and, with ``si``, the SI unit."""
+        description = f"{self.description}. {MEASUREMENT_NOTE}" if self.measurement else self.description
         out = {"units": _symbol(self.kind, "L", "T") + _MODEL if self.kind in DIMENSIONS else LABELS[self.kind],
-               "description": self.description}
+               "description": description}
         if self.legend is not None:
             out["legend"] = {str(code): name for code, name in self.legend.items()}
+        if self.measurement:
+            out[MEASUREMENT_ATTR] = True
         if si is not None and self.kind in DIMENSIONS:
             length, time = DIMENSIONS[self.kind]
             out["si_units"] = _symbol(self.kind, "m", "s")
@@ -107,7 +131,8 @@ def _steady_motion(prefix: str, what: str) -> dict[str, Quantity]:
 def _per_run(group: str) -> dict[str, Quantity]:
     """The per-run datasets of the accuracy study, the same in groups moreau and ivp."""
     return {
-        f"{group}/cpu_time": Quantity("cpu_time", "CPU time of one simulate call per run (fastest of the repeats)"),
+        f"{group}/cpu_time": Quantity("cpu_time", "CPU time of one simulate call per run (fastest of the repeats)",
+                                      measurement=True),
         f"{group}/err_end_position": Quantity("length", "|x(N) - x_ref(N)| per run"),
         f"{group}/err_vbar": Quantity("velocity", "|vbar - vbar_ref| per run, vbar = (x(N) - x(N-1)) / dt"),
         f"{group}/x_end": Quantity("length", "end position x(N) per run"),
@@ -163,6 +188,7 @@ QUANTITIES: dict[str, Quantity] = {
     "events/mode": Quantity("code", "mode after each event", MODE_LEGEND),
     "events/acc_before": Quantity("acceleration", "relative acceleration x'' just before each event"),
     "events/acc_after": Quantity("acceleration", "relative acceleration x'' just after each event"),
+    "stats/cpu_time": Quantity("cpu_time", "CPU time of the simulate call", measurement=True),
     # accuracy study (selfalign.analysis.accuracy)
     "moreau/h": Quantity("time", "Moreau step h = dt / n of each run"),
     "moreau/steps_per_period": Quantity("count", "Moreau steps per period n of each run"),
@@ -170,6 +196,17 @@ QUANTITIES: dict[str, Quantity] = {
     "ivp/atol": Quantity("state", "absolute tolerance of each solve_ivp run"),
     **_per_run("moreau"),
     **_per_run("ivp"),
+    "exact/cpu_time": Quantity("cpu_time", "CPU time of one simulate call of the reference (fastest of the repeats)",
+                               measurement=True),
+    "exact/events_run_cpu_time": Quantity("cpu_time", "CPU time of one simulate call of the reference with the "
+                                                      "event log on (no fast-forward; fastest of the repeats)",
+                                          measurement=True),
+    "moreau_cpu_at_target": Quantity("cpu_time", "CPU time at which Moreau reaches the target error (interpolated "
+                                                 "on the log-log curve of CPU time against h)", measurement=True),
+    "speed_ratio_at_target": Quantity("number", "moreau_cpu_at_target over the reference's CPU time",
+                                      measurement=True),
+    "exact_events_per_second": Quantity("cpu_rate", "events per CPU second of the reference with the event log on",
+                                        measurement=True),
     # stability (selfalign.stages.stability)
     "methods": Quantity("text", "the methods, the reference first: analytic, saltation, numeric_exact, "
                                 "numeric_moreau"),
@@ -294,6 +331,8 @@ _MAP_CODES = {"physical": "a physical profile (q <= 1, Sect. 5.1)",
               "holds": "the strip can hold the part at every mu (max(y2'', y3'') <= c_mu mu_min g, eq. 41)",
               "screened": "every closed-form condition of the design search holds"}
 QUANTITIES.update({
+    "design_seconds": Quantity("wall_time", "wall-clock time of the design search (screening, simulation of the "
+                                            "candidates, trade-offs)", measurement=True),
     **{f"profile/{k}": q for k, q in _DESIGN_PROFILE.items()},
     **{f"front_time_*/{k}": q for k, q in _DESIGN_PROFILE.items()},
     "profile/t1": Quantity("si_time", "end of the zero-acceleration phase (start of -y2'')"),

@@ -15,7 +15,10 @@ Layout (README "Results"):
   dt + tau_end, for plotting), ``dt``; ``selfalign_version`` is added by
   ``write_h5``;
 * group ``stats``: one attribute per entry of ``Trajectory.stats`` (events,
-  steps, cpu_time, ...); group ``info``: likewise for ``Trajectory.info``;
+  steps, ...) except ``cpu_time``, a measured value, which is the dataset
+  ``stats/cpu_time`` (marked ``measurement = True``: the one content of the
+  file that differs between two runs); group ``info``: likewise for
+  ``Trajectory.info``;
 * group ``series`` (only if the scene recorded series): one dataset per series
   (``t`` plus the recorded names), attribute ``samples_per_period``;
 * group ``events`` (only if the scene recorded the event log): the columns of
@@ -54,6 +57,8 @@ RERUN_PLOTS = {
     "friction": "friction force F_f, coefficient mu_bar(x)",
     "mode": "mode (1 forward slip, 0 stick, -1 backward slip)",
 }
+#: Entries of ``Trajectory.stats`` that are measured, stored as datasets of group ``stats``.
+MEASURED_STATS = ("cpu_time",)
 #: Where each event is marked: the plot and the event-log column of its value.
 EVENT_MARKS = {"position": "x", "velocity": "v"}
 
@@ -99,7 +104,9 @@ def trajectory_content(traj: Trajectory, scene: Scene) -> tuple[dict, dict, dict
         "t_end": int(traj.period_end) * dt + float(traj.tau_end),
         "dt": dt,
     }
-    groups = {"stats": {"attrs": dict(traj.stats)}, "info": {"attrs": dict(traj.info)}}
+    stats = dict(traj.stats)
+    measured = {name: np.float64(stats.pop(name)) for name in MEASURED_STATS if name in stats}
+    groups = {"stats": {"attrs": stats, "datasets": measured}, "info": {"attrs": dict(traj.info)}}
     if traj.series:
         groups["series"] = {"datasets": {k: np.asarray(v) for k, v in traj.series.items()},
                             "attrs": {"samples_per_period": int(scene.record.samples_per_period)}}
@@ -118,7 +125,8 @@ def trajectory_from_result(result: dict) -> Trajectory:
         x_end=a["x_end"], v_end=a["v_end"], period_end=a["period_end"], tau_end=a["tau_end"],
         status=Status(a["status"]), reason=Reason[a["reason"].upper()], message=a["message"], method=a["method"],
         options=dict(a["options"]),
-        series=series, events=events, stats=dict(g["stats"]["attrs"]), info=dict(g["info"]["attrs"]),
+        series=series, events=events, info=dict(g["info"]["attrs"]),
+        stats={**g["stats"]["attrs"], **{k: float(v) for k, v in g["stats"]["datasets"].items()}},
     )
 
 

@@ -324,7 +324,7 @@ def figure_accuracy_cost(results: list[dict]):
             "rounding_level_position": a["rounding_level_position"],
             "rounding_level_vbar": a["rounding_level_vbar"],
             "moreau": g["moreau"]["datasets"], "ivp": g["ivp"]["datasets"],
-            "exact_cpu_time": g["exact"]["attrs"]["cpu_time"],
+            "exact_cpu_time": float(g["exact"]["datasets"]["cpu_time"]),
         })
     fig = Figure(figsize=(4.4 * len(studies) + 0.8, 7.6), layout="constrained")
     return work_precision(fig, studies)

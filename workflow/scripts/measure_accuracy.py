@@ -11,6 +11,6 @@ with logged(snakemake.log[0]) as log:
     write_h5(snakemake.output[0], datasets, attrs, groups)
     log.info("%s: Moreau order %.3f, speed ratio exact/Moreau at error %g: %.3g (%s), "
              "ivp max err/rtol %.3g, exact %.3g events/s; written to %s", scene.name, attrs["moreau_order"],
-             attrs["target_error"], attrs["speed_ratio_at_target"],
+             attrs["target_error"], datasets["speed_ratio_at_target"],
              "interpolated" if attrs["target_interpolated"] else "extrapolated",
-             attrs["ivp_max_err_over_rtol"], attrs["exact_events_per_second"], snakemake.output[0])
+             attrs["ivp_max_err_over_rtol"], datasets["exact_events_per_second"], snakemake.output[0])
