@@ -23,11 +23,12 @@ from collections import Counter
 
 import numpy as np
 
-from selfalign.analysis.positioning import positioning_grid, three_phase_table
+from selfalign.analysis.positioning import positioning_grid
 from selfalign.analysis.steady_state import steady_state_grid
 from selfalign.model.profiles import ThreePhaseProfile
 from selfalign.solvers.driver import simulate_batch
 from selfalign.solvers.outcomes import Reason
+from selfalign.solvers.tables import three_phase_table
 
 DT, DY, W, C_MU = 1.0, 0.084, 0.05, 2.5
 BUDGET, LONG_FACTOR = 1000, 20

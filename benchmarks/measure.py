@@ -26,9 +26,10 @@ from selfalign.analysis.positioning import positioning_grid
 from selfalign.model.friction import StopZone, Uniform
 from selfalign.model.profiles import ThreePhaseProfile
 from selfalign.model.scene import Scene
-from selfalign.solvers.driver import ProfileTable, simulate, simulate_batch
+from selfalign.solvers.driver import simulate, simulate_batch
 from selfalign.solvers.exact import piecewise_rows
 from selfalign.solvers.records import EXACT_PIECEWISE
+from selfalign.solvers.tables import ProfileTable
 
 #: The Fig. 18 profile (case 1, stick-slip), used by every benchmark.
 PROFILE = ThreePhaseProfile(1.05, 0.084, 2.2, 0.9)

@@ -116,3 +116,78 @@ def test_the_check_can_fail():
     assert len(violations("model", found)) == 3
     assert violations("stages", found[:2]) == []
     assert violations("model", imports("from ..progress import Progress\n", "selfalign.model")) == []
+
+
+def module_of(name: str) -> str | None:
+    """The package module an imported dotted name lives in (``pkg.mod.attr`` -> ``pkg.mod``), or None
+    outside the package."""
+    parts = name.split(".")
+    while parts and parts[0] == "selfalign":
+        path = PACKAGE.parent.joinpath(*parts)
+        if path.with_suffix(".py").is_file() or (path / "__init__.py").is_file():
+            return ".".join(parts)
+        parts = parts[:-1]
+    return None
+
+
+def import_graph() -> dict[str, set[str]]:
+    """Module -> the package modules it imports (lazy imports included), for every module of every
+    layer (package ``__init__`` modules excluded: they only gather names for the user)."""
+    graph = {}
+    for path in MODULES:
+        if path.name == "__init__.py":
+            continue
+        name = ".".join(path.relative_to(PACKAGE.parent).with_suffix("").parts)
+        package = name.rsplit(".", 1)[0]
+        found = {module_of(n) for n, _ in imports(path.read_text(), package)}
+        graph[name] = {m for m in found if m and m != name and not m.endswith(".__init__")
+                       and not (PACKAGE.parent.joinpath(*m.split(".")) / "__init__.py").is_file()}
+    return graph
+
+
+def cycles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """The strongly connected components of more than one module (Tarjan), each sorted."""
+    index, low, stack, on, out = {}, {}, [], set(), []
+
+    def visit(v):
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on.add(v)
+        for w in graph.get(v, ()):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            comp = []
+            while True:
+                w = stack.pop()
+                on.discard(w)
+                comp.append(w)
+                if w == v:
+                    break
+            if len(comp) > 1:
+                out.append(sorted(comp))
+
+    for v in sorted(graph):
+        if v not in index:
+            visit(v)
+    return out
+
+
+def test_no_import_circles():
+    """No two modules import each other, directly or through others, inside a layer too (lazy imports
+    count): a circle means one of them holds what belongs below both (README "Architecture")."""
+    graph = import_graph()
+    assert len(graph) > 50 and graph["selfalign.solvers.driver"], "the import graph was not read"
+    found = cycles(graph)
+    assert not found, "import circles:\n" + "\n".join(" -> ".join(c) for c in found)
+
+
+def test_the_circle_check_can_fail():
+    """A two-module circle and a three-module one are found; a chain is not a circle."""
+    assert cycles({"a": {"b"}, "b": {"a"}, "c": {"a"}}) == [["a", "b"]]
+    assert cycles({"a": {"b"}, "b": {"c"}, "c": {"a"}}) == [["a", "b", "c"]]
+    assert cycles({"a": {"b"}, "b": {"c"}, "c": set()}) == []
+    assert module_of("selfalign.solvers.driver.simulate") == "selfalign.solvers.driver"

@@ -8,9 +8,9 @@ from conftest import assert_batch_member_is, random_three_phase
 
 import selfalign as sa
 from selfalign import EventKind, Reason, Record, Scene, Status, StopZone, ThreePhaseProfile, Uniform, simulate
-from selfalign.analysis.positioning import three_phase_table
 from selfalign.analysis.steady_state import steady_state, steady_state_grid
 from selfalign.solvers.driver import simulate_batch
+from selfalign.solvers.tables import three_phase_table
 
 W, C_MU = 0.05, 2.5
 

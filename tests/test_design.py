@@ -17,7 +17,6 @@ import yaml
 
 import selfalign as sa
 from selfalign.analysis.design import Candidates, design, dimensionless, mu_values, search_grid, verify
-from selfalign.analysis.positioning import three_phase_table
 from selfalign.analysis.steady_state import steady_state_grid
 from selfalign.io.design_spec import design_spec_from_dict, load_design_spec
 from selfalign.model.design_spec import DesignGrid, DesignSpec
@@ -25,6 +24,7 @@ from selfalign.model.friction import FrictionLaw, StopZone
 from selfalign.model.scene import Scene
 from selfalign.solvers.driver import simulate_batch
 from selfalign.solvers.outcomes import STATUS_CODES, Status
+from selfalign.solvers.tables import three_phase_table
 
 ROOT = Path(__file__).resolve().parents[1]
 REST, ACCUMULATION = STATUS_CODES[Status.REST], STATUS_CODES[Status.ACCUMULATION]

@@ -15,7 +15,7 @@ import pytest
 import yaml
 
 from selfalign.analysis.design import design, friction_at, ramp_at, scale
-from selfalign.analysis.positioning import positioning, setting_profile
+from selfalign.analysis.positioning import positioning
 from selfalign.io.design_spec import DesignSpecError, design_spec_from_dict
 from selfalign.model.design_spec import DesignGrid, DesignSpec
 from selfalign.model.friction import FrictionLaw, StopZone
@@ -24,6 +24,7 @@ from selfalign.model.scene import Scene
 from selfalign.solvers.driver import simulate, simulate_batch
 from selfalign.solvers.methods import FALLBACK_STEPS_PER_PERIOD, most_exact_method
 from selfalign.solvers.outcomes import STATUS_CODES, Status
+from selfalign.solvers.tables import setting_profile
 
 ROOT = Path(__file__).resolve().parents[1]
 STOP = (STATUS_CODES[Status.REST], STATUS_CODES[Status.ACCUMULATION])

@@ -65,7 +65,8 @@ from ..model.units import SIScale
 from ..progress import Progress
 from ..solvers.driver import simulate_batch
 from ..solvers.outcomes import STATUS_CODES, Status
-from .positioning import MAX_PERIODS, positioning_grid, setting_method, setting_table
+from ..solvers.tables import setting_method, setting_table
+from .positioning import MAX_PERIODS, positioning_grid
 from .steady_state import steady_state_grid
 from .stick_map import stick_map, stick_map_validity
 

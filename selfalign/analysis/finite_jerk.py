@@ -27,7 +27,7 @@ from ..progress import Progress, resolve_mode
 from ..solvers.driver import simulate, simulate_batch
 from ..solvers.methods import most_exact_method
 from ..solvers.outcomes import STATUS_CODES, Status
-from .positioning import setting_profile
+from ..solvers.tables import setting_profile
 from .steady_simulation import exact_steady_state, simulated_steady_state
 
 

@@ -292,7 +292,7 @@ def _period_map(motion, x0, v0, method, options):
 
 def moreau_step(dt: float, h) -> float:
     """The Moreau step actually used for a requested ``h`` (dt / ceil(dt / h); None: dt / 1000)."""
-    from ..solvers.methods import steps_per_period
+    from ..solvers.moreau import steps_per_period
 
     return steps_per_period(float(dt), h)[1]
 

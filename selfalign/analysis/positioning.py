@@ -46,13 +46,12 @@ import numpy as np
 
 from ..model.errors import check_finite, check_integer, check_positive
 from ..model.friction import FrictionLaw, StopZone, stick_limit, stick_limits
-from ..model.profiles import FiniteJerkProfile, ThreePhaseProfile, three_phase_times
+from ..model.profiles import ThreePhaseProfile
 from ..progress import Progress, resolve_mode
-from ..solvers.driver import ProfileTable, profile_table, simulate_batch
-from ..solvers.exact import piecewise_rows
-from ..solvers.methods import MethodChoice, check_accumulation_tol, most_exact_method, resolve
+from ..solvers.driver import simulate_batch
+from ..solvers.methods import MethodChoice, check_accumulation_tol, resolve
 from ..solvers.outcomes import STATUS_CODES, Status
-from ..solvers.records import EXACT_PIECEWISE
+from ..solvers.tables import setting_method, setting_profile, setting_table
 from .classification import check_parameters
 from .steady_simulation import three_phase_simulated_steady_state
 from .steady_state import steady_state_grid
@@ -118,38 +117,6 @@ def _check_levels(levels):
 
 #: Status codes of the per-entry ``status`` arrays (``list(selfalign.Status).index``).
 ACCUMULATE, REST, NEVER_STOPS = (STATUS_CODES[s] for s in (Status.ACCUMULATION, Status.REST, Status.NEVER_STOPS))
-
-
-def three_phase_table(dt, dy, y2, y3) -> ProfileTable:
-    """Kernel profile table of three-phase profiles (flat arrays; every one physical)."""
-    times = three_phase_times(dt, dy, y2, y3)
-    if not np.all(times.feasible):
-        raise ValueError("three-phase profiles: every (dt, dy, y2, y3) must be physical (q <= 1)")
-    zero = np.zeros_like(times.t1)
-    breaks = np.stack([zero, times.t1, times.t2, times.t3], axis=-1)
-    accels = np.stack([zero, -np.broadcast_to(y2, zero.shape), np.broadcast_to(y3, zero.shape)], axis=-1)
-    return ProfileTable(piecewise_rows(breaks, accels), EXACT_PIECEWISE)
-
-
-def setting_profile(dt: float, dy: float, y2: float, y3: float, ramp: float):
-    """The paper's three-phase profile (``ramp`` 0) or its finite-jerk version with y'' ramps of time ``ramp``."""
-    return ThreePhaseProfile(dt, dy, y2, y3) if ramp == 0.0 else FiniteJerkProfile(dt, dy, y2, y3, ramp=ramp)
-
-
-def setting_method(dt, dy, y2, y3, ramp: float, surface, friction: FrictionLaw) -> MethodChoice:
-    """:func:`~selfalign.solvers.methods.most_exact_method` of the settings (flat arrays, at least one;
-    every setting is of one kind, so the first decides)."""
-    return most_exact_method(setting_profile(float(dt[0]), float(dy[0]), float(y2[0]), float(y3[0]), ramp),
-                             surface, friction)
-
-
-def setting_table(dt, dy, y2, y3, ramp: float, choice: MethodChoice) -> ProfileTable:
-    """Kernel profile table of the settings (flat arrays) for the method ``choice``: the vectorised
-    :func:`three_phase_table` for the exact solver without ramps, otherwise one row per profile."""
-    if ramp == 0.0 and choice.method == "exact":
-        return three_phase_table(dt, dy, y2, y3)
-    profiles = [setting_profile(*(float(a) for a in values), ramp) for values in zip(dt, dy, y2, y3)]
-    return profile_table(profiles, choice.method, 0.0, resolve(choice.method, choice.options))
 
 
 def _run_chunk(args):

@@ -59,6 +59,7 @@ from ..model.profiles import finite_jerk_times, three_phase_times
 from ..progress import Progress, resolve_mode
 from ..solvers.driver import simulate_batch
 from ..solvers.outcomes import Reason, Status
+from ..solvers.tables import setting_method, setting_table
 from .steady_state import OBJECTIVE_SCALE
 
 #: Bracket width at which the simulated steady state has converged, relative to the velocity swing.
@@ -221,9 +222,7 @@ def _moreau_period_map(profiles, steps_per_period: int, iteration: str, friction
 def _three_phase_period_map(dt, dy, y2, y3, friction, ramp):
     """Period map of three-phase profiles (flat arrays whose profiles exist) with y'' ramps of time
     ``ramp`` (0: the paper's) from the batched solver the settings allow on a uniform surface
-    (:func:`~selfalign.analysis.positioning.setting_method`: exact, or Moreau for Stribeck friction)."""
-    from .positioning import setting_method, setting_table
-
+    (:func:`~selfalign.solvers.tables.setting_method`: exact, or Moreau for Stribeck friction)."""
     choice = setting_method(dt, dy, y2, y3, ramp, Uniform(), friction)
     table = setting_table(dt, dy, y2, y3, ramp, choice)
 

@@ -12,61 +12,27 @@ the stepper provides (arcs, steps or solve_ivp's dense output).
 from __future__ import annotations
 
 import functools
-import math
 import numbers
 import time
 
 import numpy as np
 
 from ..model.errors import check_integer
-from ..model.friction import FrictionLaw, StopZone, check_zone_position, coefficient
-from ..model.profiles import Profile
+from ..model.friction import FrictionLaw, StopZone, check_zone_position
 from ..model.scene import Scene
-from . import exact, moreau
+from . import moreau
 from . import records as R
+from .assembly import scene_member, set_friction, trajectory
 from .jit import call, kernel
 from .methods import check_accumulation_tol, check_moreau_work, check_scene, friction_refused, resolve
-from .outcomes import MAX_CYCLE, Reason, Status
-from .results import BatchResult, Trajectory, outcome_message
+from .outcomes import MAX_CYCLE
+from .results import BatchResult, Trajectory
+from .tables import kernel_row, profile_table
 
 
 def resolve_options(method: str, options: dict) -> dict:
     """The options of ``method`` with defaults filled in and checked (:func:`methods.resolve`)."""
     return resolve(method, options)
-
-
-def _row(method: str, profile: Profile, phase: float, options: dict) -> tuple[int, np.ndarray]:
-    """(kernel method code, profile row), cached on the profile object."""
-    key = (method, phase, options.get("h"), options.get("steps_per_period")) if method == "moreau" else (method,)
-    cache = profile.__dict__.setdefault("_kernel_rows", {})
-    if key not in cache:
-        if method == "moreau":
-            cache[key] = (R.MOREAU, moreau.profile_row(profile, phase, options))
-        else:
-            cache[key] = exact.profile_row(profile)
-    return cache[key]
-
-
-def _scene_member(scene: Scene) -> tuple[np.ndarray, float]:
-    """The member record of a scene (inputs set) and its origin (x_mu, or x0)."""
-    members = R.records(R.MEMBER_DTYPE, 1)
-    m = members[0]
-    surface = scene.surface
-    if isinstance(surface, StopZone):
-        origin = surface.x_mu
-        # c_mu = 1 is friction 1 everywhere: a uniform surface with its origin at x_mu.
-        m["zone"], m["w"], m["c_mu"] = surface.c_mu > 1.0, surface.w, surface.c_mu
-    else:
-        origin = scene.x0
-        m["w"], m["c_mu"] = math.inf, 1.0
-    m["xi"], m["v"], m["tau0"] = scene.x0 - origin, scene.v0, scene.phase * scene.profile.dt
-    _set_friction(members, scene.friction)
-    return members, origin
-
-
-def _set_friction(members: np.ndarray, law: FrictionLaw) -> None:
-    """The friction-law inputs of member records (the paper's Coulomb law: r = 1, no Stribeck)."""
-    members["static_ratio"], members["v_s"], members["delta"] = law.ratio, law.v_s, law.delta
 
 
 class _Prepared:
@@ -84,9 +50,9 @@ class _Prepared:
         self.options = check_scene(scene, method, options)
         if method == "ivp":
             return
-        self.code, self.row = _row(method, scene.profile, scene.phase, self.options)
+        self.code, self.row = kernel_row(method, scene.profile, scene.phase, self.options)
         self.table = self.row[None, :]
-        members, self.origin = _scene_member(scene)
+        members, self.origin = scene_member(scene)
         self.template = members.tobytes()
         o = self.options
         self.args = (self.code, self.table, R.UNTIL_CODES[scene.until], scene.horizon_periods,
@@ -135,7 +101,7 @@ def simulate(scene: Scene, method: str | None = None, **options) -> Trajectory:
         arcs, events, samples = _recorded_run(K, members, (members,) + prep.args, prep.tail, prep.steps)
     else:
         call(K.run_members, members, *prep.args, True, *prep.tail, _hist(), *_no_recording())
-    return _trajectory(scene, method, prep.options, prep.code, prep.row, members[0], prep.origin, arcs, events,
+    return trajectory(scene, method, prep.options, prep.code, prep.row, members[0], prep.origin, arcs, events,
                        samples, time.process_time() - cpu0)
 
 
@@ -192,160 +158,9 @@ _NO_BOUNDARIES = np.zeros((1, 0))
 _NO_STEPS = np.zeros(0, dtype=np.int64)
 
 
-def _trajectory(scene, method, options, code, row, record, origin, arcs, events, samples, cpu,
-                detail: str = "") -> Trajectory:
-    """The Trajectory of a finished member record (and its recordings); ``detail``: the
-    message of a failed integrator (ivp)."""
-    values = record.item()
-    get = _INDEX.__getitem__
-    reason = _REASONS[values[get("reason")]]
-    surface = scene.surface
-    zone = isinstance(surface, StopZone)
-    xi = values[get("xi")]
-    info = {"origin": origin, "x_rel_end": xi, "fast_forward_periods": values[get("fast_forward")],
-            "at_rest": values[get("at_rest")]}
-    if zone:
-        info["x_stick_min"] = origin + values[get("xs")]
-    if reason is Reason.ACCUMULATION:
-        xs, last, contraction = values[get("xs")], values[get("last_stick")], values[get("contraction")]
-        info.update(limit=origin + xs, contraction=None if contraction != contraction else contraction,
-                    stick_events=values[get("zone_sticks")], periods=values[get("n_end")],
-                    last_stick=origin + last, remaining=xs - last)
-    elif reason.status is Status.NEVER_STOPS:
-        info.update(net_advance=values[get("advance")], cycle_periods=values[get("cycle")])
-    used = options
-    if method == "moreau":
-        used = {**options, "h": float(row[R.DATA + 1])}
-        info.update(steps_per_period=int(row[R.DATA]), h_requested=options["h"])
-        if options["iteration"] == "fixed_point":
-            info.update(fp_iterations=values[get("fp_iterations")],
-                        fp_unconverged_steps=values[get("fp_unconverged")])
-    rec = None
-    if scene.record.dense:
-        rec = dict(zip(_FIELDS, values))
-        series = _dense(scene, code, row, rec, origin, arcs, samples)
-    else:
-        series = {}
-    log = None
-    if scene.record.events and events is not None and code != R.MOREAU:
-        log = events.copy()
-        log["x"] += origin
-    arc_log = None
-    if scene.record.arcs and arcs is not None and code != R.MOREAU:
-        arc_log = arcs.copy()
-        arc_log["x"] += origin
-
-    def compose():
-        r = rec if rec is not None else dict(zip(_FIELDS, values))
-        mu = coefficient(xi, surface.w, surface.c_mu) if zone else 1.0
-        text = outcome_message(r, origin, options, scene.until, scene.horizon_periods, mu, detail,
-                               scene.friction.ratio)
-        if method == "moreau" and reason is Reason.ACCUMULATION:
-            text += (f"; the limit is that of the time-stepping scheme (x_stick_min for its rest acceleration "
-                     f"max|impulse| / h = {r['rest_acc']!r})")
-        if method == "moreau" and options["iteration"] == "fixed_point" and r["fp_unconverged"]:
-            text += (f"; WARNING: the fixed-point iteration missed fp_tol = {options['fp_tol']!r} within "
-                     f"fp_max_iter = {options['fp_max_iter']} on {r['fp_unconverged']} steps (largest last "
-                     f"change {r['fp_max_change']!r})")
-        return text
-
-    events_count = values[get("events")]
-    return Trajectory(
-        x_end=origin + xi, v_end=values[get("v")], period_end=values[get("n_end")], tau_end=values[get("tau_end")],
-        status=reason.status, reason=reason, message=compose, method=method, options=used, series=series,
-        events=log, arcs=arc_log,
-        stats={"events": events_count, "steps": events_count if method == "exact" else values[get("steps")],
-               "cpu_time": cpu},
-        info=info,
-    )
-
-
-_REASONS = list(Reason)
-_INDEX = {name: i for i, name in enumerate(R.MEMBER_DTYPE.names)}
-_FIELDS = R.MEMBER_DTYPE.names
-
-
-def _dense(scene, code, row, rec, origin, arcs, samples) -> dict:
-    """Dense series of a recorded run: the exact solver's arcs evaluated on the grid plus
-    every event, or the states a stepper sampled (Moreau: the steps nearest the grid; ivp:
-    solve_ivp's dense output on the grid plus every event)."""
-    if code not in (R.EXACT_PIECEWISE, R.EXACT_SMOOTH):         # Moreau, ivp: the states themselves
-        s = samples
-        return dense_series(scene, s["period"], s["tau"], origin + s["x"], s["v"], None)
-    end = np.zeros(1, dtype=R.ARC_DTYPE)
-    e = end[0]
-    stuck = rec["mode"] == 0 or rec["reason"] == Reason.ACCUMULATION
-    e["kind"], e["mode"] = (0, 0) if stuck else (1, rec["mode"])
-    e["period"], e["tau"], e["x"], e["v"] = rec["n_end"], rec["tau_end"], rec["xi"], 0.0 if stuck else rec["v"]
-    all_arcs = np.concatenate([arcs, end])
-    period, tau, x, v, mode = call(kernel().sample_arcs, all_arcs, row, float(rec["tau0"]),
-                                   int(scene.record.samples_per_period))
-    return dense_series(scene, period, tau, origin + x, v, mode)
-
-
-def dense_series(scene: Scene, period, tau, x, v, mode) -> dict:
-    """``t`` and the recorded series of a scene at states (period, tau, x, v), x absolute.
-
-    ``mode`` None: the mode of the model at each state (slip in the direction of v; at
-    v = 0 stick iff |y''| <= r mu_bar, else slip -sign(y''), :func:`decide_mode`).  The
-    friction force is F = mu_bar mu(v) mode in slip (mu(v) = 1 but for Stribeck friction)
-    and -y'' in stick (eq. 5).
-    """
-    profile, surface, law = scene.profile, scene.surface, scene.friction
-    period, tau = np.asarray(period), np.asarray(tau, dtype=float)
-    x, v = np.asarray(x, dtype=float), np.asarray(v, dtype=float)
-    ydd = np.asarray(profile.acceleration(tau), dtype=float) + 0.0 * tau
-    mu = surface.coefficient(x) if isinstance(surface, StopZone) else np.ones_like(x)
-    if mode is None:
-        mode = call(kernel().modes, v, ydd, law.ratio * mu)
-    mode = np.asarray(mode, dtype=np.int8)
-    available = {
-        "x": lambda: x,
-        "v": lambda: v,
-        "y": lambda: np.asarray(profile.position(tau), dtype=float),
-        "yd": lambda: np.asarray(profile.velocity(tau), dtype=float),
-        "ydd": lambda: ydd,
-        "friction": lambda: np.where(mode == 0, -ydd, mode * mu * law.factor(v)),
-        "mode": lambda: mode,
-    }
-    out = {"t": period * profile.dt + tau}
-    out.update({name: available[name]() for name in scene.record.series})
-    return out
-
-
 # ----------------------------------------------------------------------------------------
 # Batches
 # ----------------------------------------------------------------------------------------
-
-class ProfileTable:
-    """Profile rows for a batch: ``rows`` (P, width) of the kernel's profile table, all of
-    one kernel method ``code``.  Build it from profiles (:func:`profile_table`) or, for a
-    vectorised sweep, from arrays (:func:`selfalign.solvers.exact.piecewise_rows`)."""
-
-    def __init__(self, rows: np.ndarray, code: int):
-        self.rows = np.ascontiguousarray(rows, dtype=float)
-        self.code = int(code)
-
-    @property
-    def size(self) -> int:
-        return self.rows.shape[0]
-
-
-def profile_table(profiles, method: str, phase, options: dict) -> ProfileTable:
-    """The :class:`ProfileTable` of ``profiles`` (one, a sequence, or a table already) for ``method``."""
-    if isinstance(profiles, ProfileTable):
-        if method == "moreau" and profiles.code != R.MOREAU or method == "exact" and profiles.code == R.MOREAU:
-            raise ValueError(f"the profile table was built for another method than {method!r}")
-        return profiles
-    profiles = [profiles] if isinstance(profiles, Profile) else list(profiles)
-    if not profiles or not all(isinstance(p, Profile) for p in profiles):
-        raise ValueError("profiles: give a selfalign profile, a non-empty sequence of them, or a ProfileTable")
-    phase0 = float(np.ravel(phase)[0]) if np.size(phase) else 0.0
-    rows = [_row(method, p, phase0, options) for p in profiles]
-    codes = {code for code, _ in rows}
-    if len(codes) > 1:
-        raise ValueError("a batch runs one kind of profile: all piecewise-constant, or all Fourier")
-    return ProfileTable(R.pack_profiles([row for _, row in rows]), codes.pop())
 
 def _member_array(name, value, size, dtype=float) -> np.ndarray:
     if np.asarray(value).dtype.kind not in "biuf" or np.asarray(value).dtype.kind == "b" and dtype is float:
@@ -404,7 +219,7 @@ def simulate_batch(profiles, x0, v0=0.0, phase=0.0, *, profile_index=None, surfa
     """Many trajectories through the same compiled driver as :func:`simulate`.
 
     ``profiles``: one profile, a sequence of profiles, or a
-    :class:`~selfalign.solvers.exact.ProfileTable` (vectorised three-phase sweeps);
+    :class:`~selfalign.solvers.tables.ProfileTable` (vectorised three-phase sweeps);
     ``profile_index`` picks each member's profile (default: all the one profile, or one
     profile per member).  ``x0``, ``v0`` hold at time ``phase * dt`` (scalars or one per
     member; Moreau needs one phase for all).  The surface: ``surface`` (Uniform or one
@@ -477,7 +292,7 @@ def simulate_batch(profiles, x0, v0=0.0, phase=0.0, *, profile_index=None, surfa
         members["w"] = np.where(members["zone"], w_arr, np.inf)
         members["c_mu"] = c_arr
     members["profile"] = index
-    _set_friction(members, friction)
+    set_friction(members, friction)
     members["xi"] = x0 - origin
     members["v"] = _member_array("v0", v0, size)
     members["tau0"] = phase * dt

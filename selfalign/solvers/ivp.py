@@ -349,11 +349,11 @@ def solve(scene, options: dict, cpu0: float):
     decisions are the compiled driver's."""
     import time
 
-    from .driver import _scene_member, _trajectory
+    from .assembly import scene_member, trajectory
 
     K = kernel()
     profile = scene.profile
-    members, origin = _scene_member(scene)
+    members, origin = scene_member(scene)
     amax = float(profile.max_abs_acceleration)
     row = np.array(R.profile_header(profile.dt, amax, profile.velocity_swing, amax))
     until = R.UNTIL_CODES[scene.until]
@@ -419,7 +419,7 @@ def solve(scene, options: dict, cpu0: float):
         arr = np.array(run.samples, dtype=float).reshape(-1, 4)
         samples["period"], samples["tau"], samples["x"], samples["v"] = arr[:, 0], arr[:, 1], arr[:, 2], arr[:, 3]
     events = np.array(run.events, dtype=R.EVENT_DTYPE) if scene.record.events else None
-    traj = _trajectory(scene, "ivp", options, -1, row, members[0], origin, None, events, samples,
+    traj = trajectory(scene, "ivp", options, -1, row, members[0], origin, None, events, samples,
                        time.process_time() - cpu0, detail)
     traj.stats.update(run.stats, events=run.n_events)
     return traj

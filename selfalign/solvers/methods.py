@@ -18,10 +18,8 @@ from typing import Callable
 from ..model.friction import StopZone
 from ..model.profiles import FourierProfile, PiecewiseLinearProfile
 from . import records as R
+from .moreau import MAX_STEPS_PER_PERIOD, profile_row
 
-#: Most Moreau steps per period: the table impulses of one period are kept in memory
-#: (8 bytes each), and more steps than this would take hours per period anyway.
-MAX_STEPS_PER_PERIOD = 10_000_000
 #: Most Moreau steps of one run (periods of the horizon x steps per period), checked before
 #: the run: the scheme has no event budget, so its horizon is its work.  Measured on one core:
 #: 2-4 ns per step (Coulomb friction, exact iteration), 11 ns (fixed-point iteration), 39 ns
@@ -177,28 +175,6 @@ def resolve(method: str, options: dict) -> dict:
             for name, opt in spec.items()}
 
 
-def steps_per_period(dt: float, h) -> tuple[int, float]:
-    """N = ceil(dt / h) Moreau steps per period (a ratio within 1e-9 of an integer counts
-    as that integer) and the step h = dt / N used; ``h=None`` means dt / 1000.
-
-    ValueError unless 0 < h <= dt and N <= :data:`MAX_STEPS_PER_PERIOD`.
-    """
-    if h is None:
-        return 1000, dt / 1000
-    if not (isinstance(h, numbers.Real) and not isinstance(h, bool) and math.isfinite(h) and 0 < h <= dt):
-        raise ValueError(f"option h (time step) must be a finite number in (0, dt = {dt!r}], got {h!r}")
-    ratio = dt / h
-    n = round(ratio)
-    if abs(ratio - n) > 1e-9 * ratio:
-        n = math.ceil(ratio)
-    n = max(int(n), 1)
-    if n > MAX_STEPS_PER_PERIOD:
-        raise ValueError(f"option h = {h!r} needs {n:.3g} Moreau steps per period; at most "
-                         f"{MAX_STEPS_PER_PERIOD:,} are allowed (the table impulses of one period are kept in "
-                         f"memory, {8 * n / 1e9:.2g} GB here)")
-    return n, dt / n
-
-
 def check_scene(scene, method: str | None = None, options: dict | None = None) -> dict:
     """Check that ``method`` (default: the scene's) can simulate ``scene`` with ``options``
     (default: the scene's solver options); return the resolved options.  ValueError with
@@ -209,8 +185,6 @@ def check_scene(scene, method: str | None = None, options: dict | None = None) -
     if reason:
         raise ValueError(reason)
     if method == "moreau":
-        from .moreau import profile_row  # the row's impulses show what the steps resolve
-
         n = int(profile_row(scene.profile, scene.phase, options)[R.DATA])
         check_moreau_work(n, scene.horizon_periods, "horizon.periods" if scene.until == "periods"
                           else "horizon.max_periods")
@@ -238,15 +212,6 @@ def check_moreau_work(n: int, periods: int, name: str) -> None:
                          f"{n * periods:.3g} steps, more than the {MAX_MOREAU_STEPS:.0e} allowed per run (Moreau has "
                          f"no event budget: its horizon is its work, 4-40 ns per step); shorten the horizon to at "
                          f"most {MAX_MOREAU_STEPS // n:,} periods or take fewer steps per period")
-
-
-def moreau_step(dt: float, options: dict) -> tuple[int, float]:
-    """(N, h) of the Moreau options ``h`` or ``steps_per_period`` for a period ``dt``."""
-    if options.get("steps_per_period") is not None:
-        if options.get("h") is not None:
-            raise ValueError("options h and steps_per_period exclude each other; give one")
-        return steps_per_period(dt, dt / options["steps_per_period"])
-    return steps_per_period(dt, options.get("h"))
 
 
 #: Moreau steps per period when the exact solver cannot simulate a scene (:func:`most_exact_method`):

@@ -19,7 +19,7 @@ The implicit friction equation has the exact one-dimensional solution
 v* = v_k - impulse, a soft threshold; ``iteration="fixed_point"`` solves it the way
 the paper does, by a projected fixed-point iteration on the friction multiplier.
 
-The step is adjusted down to h = dt / N (:func:`selfalign.solvers.methods.steps_per_period`),
+The step is adjusted down to h = dt / N (:func:`steps_per_period`),
 so every period holds exactly N steps from the start phase; their impulses are one
 precomputed periodic array (the profile row, :func:`profile_row`).  While v = 0 the
 step is the identity as long as |impulse| <= h mu_bar (v* lies in the stick window),
@@ -34,10 +34,16 @@ acceleration.  Dense output is the state at the steps nearest a uniform grid of
 
 from __future__ import annotations
 
+import math
+import numbers
+
 import numpy as np
 
 from . import records as R
-from .methods import moreau_step
+
+#: Most Moreau steps per period: the table impulses of one period are kept in memory
+#: (8 bytes each), and more steps than this would take hours per period anyway.
+MAX_STEPS_PER_PERIOD = 10_000_000
 
 #: Least fraction of the table's velocity swing (max y' - min y') that the velocities at the step
 #: times must span (:func:`profile_row`).
@@ -76,6 +82,37 @@ def table_impulses(profile, phase: float, n: int, h: float) -> np.ndarray:
                 i, period = 0, period + 1
         impulse[k] = total
     return impulse
+
+
+def steps_per_period(dt: float, h) -> tuple[int, float]:
+    """N = ceil(dt / h) Moreau steps per period (a ratio within 1e-9 of an integer counts
+    as that integer) and the step h = dt / N used; ``h=None`` means dt / 1000.
+
+    ValueError unless 0 < h <= dt and N <= :data:`MAX_STEPS_PER_PERIOD`.
+    """
+    if h is None:
+        return 1000, dt / 1000
+    if not (isinstance(h, numbers.Real) and not isinstance(h, bool) and math.isfinite(h) and 0 < h <= dt):
+        raise ValueError(f"option h (time step) must be a finite number in (0, dt = {dt!r}], got {h!r}")
+    ratio = dt / h
+    n = round(ratio)
+    if abs(ratio - n) > 1e-9 * ratio:
+        n = math.ceil(ratio)
+    n = max(int(n), 1)
+    if n > MAX_STEPS_PER_PERIOD:
+        raise ValueError(f"option h = {h!r} needs {n:.3g} Moreau steps per period; at most "
+                         f"{MAX_STEPS_PER_PERIOD:,} are allowed (the table impulses of one period are kept in "
+                         f"memory, {8 * n / 1e9:.2g} GB here)")
+    return n, dt / n
+
+
+def moreau_step(dt: float, options: dict) -> tuple[int, float]:
+    """(N, h) of the Moreau options ``h`` or ``steps_per_period`` for a period ``dt``."""
+    if options.get("steps_per_period") is not None:
+        if options.get("h") is not None:
+            raise ValueError("options h and steps_per_period exclude each other; give one")
+        return steps_per_period(dt, dt / options["steps_per_period"])
+    return steps_per_period(dt, options.get("h"))
 
 
 def profile_row(profile, phase: float, options: dict) -> np.ndarray:
