@@ -7,7 +7,20 @@ never loads click.
 
 from __future__ import annotations
 
+import logging
 import sys
+
+from ..solvers.jit import LOGGER as COMPILE_LOGGER
+
+
+def _announce_compiles() -> None:
+    """Print the compiled-code loader's announcement (a first run compiles for seconds) on stderr."""
+    if not any(getattr(h, "name", "") == "selfalign-cli" for h in COMPILE_LOGGER.handlers):
+        handler = logging.StreamHandler(sys.stderr)
+        handler.name = "selfalign-cli"
+        handler.setFormatter(logging.Formatter("selfalign: %(message)s"))
+        COMPILE_LOGGER.addHandler(handler)
+        COMPILE_LOGGER.setLevel(logging.INFO)
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -26,6 +39,7 @@ def main(argv: list[str] | None = None) -> None:
         sys.exit(2)
     from .commands import selfalign
 
+    _announce_compiles()
     try:
         code = selfalign.main(sys.argv[1:] if argv is None else list(argv), prog_name="selfalign",
                               standalone_mode=False)

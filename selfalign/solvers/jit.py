@@ -13,22 +13,34 @@ numba is imported here and nowhere else at import time of a solver call, so that
 * turns a failure to import or compile into :class:`KernelError` with a clear message.
 
 The first call of each kernel entry point in a fresh cache compiles it (seconds; see
-README "Benchmarks"); later processes load it from the cache.
+README "Benchmarks"); later processes load it from the cache.  :func:`call` says so before
+it waits: once per process, the first time an entry point has no cache entry on disk, the
+logger ``selfalign.solvers.jit`` (:data:`LOGGER`) tells at level INFO what compiles and
+where the result is kept (the CLI prints it on stderr).
 """
 
 from __future__ import annotations
 
 import hashlib
+import logging
 import os
 import platform
 import sys
+import time
 from pathlib import Path
 
-#: Source files the compiled kernel is built from (relative to the package).
+#: Source files the compiled kernel is built from (relative to the package): the kernel and every
+#: module of the package it imports, directly or not (tests/test_jit.py checks the closure).
 SOURCES = ("solvers/kernel.py", "solvers/records.py", "solvers/outcomes.py", "model/arcs.py",
-           "model/friction.py", "model/registry.py")
+           "model/friction.py", "model/registry.py", "model/errors.py")
+#: The logger that announces a compilation (and how long it took).
+LOGGER = logging.getLogger(__name__)
+#: Wall time of compiling the entry points of one solver run on an empty cache, as told to the
+#: user before it starts (README "Benchmarks": measured on 2-core machines, 13-17 s).
+COMPILE_SECONDS = 15
 
 _kernel = None
+_announced = False
 
 
 class KernelError(RuntimeError):
@@ -81,12 +93,37 @@ def kernel():
     return module
 
 
+def _uncached(function) -> bool:
+    """Whether ``function`` (a kernel entry point) has not run in this process and has no entry in
+    the compiled-code cache on disk, so that calling it compiles it."""
+    if function.signatures:
+        return False
+    index = getattr(getattr(getattr(function, "_cache", None), "_cache_file", None), "_index_path", None)
+    return index is not None and not os.path.exists(index)
+
+
+def announce_compile(function) -> None:
+    """Tell :data:`LOGGER` (once per process) that ``function`` is about to compile, and where to."""
+    global _announced
+    if _announced or not _uncached(function):
+        return
+    _announced = True
+    LOGGER.info("compiling the event kernel (once per machine and version, ~%d s); cached in %s",
+                COMPILE_SECONDS, os.path.dirname(function._cache._cache_file._index_path))
+
+
 def call(function, *args):
-    """Call a kernel entry point; a numba compilation failure becomes a :class:`KernelError`."""
+    """Call a kernel entry point (announcing a compilation first, :func:`announce_compile`); a numba
+    compilation failure becomes a :class:`KernelError`."""
     from numba.core.errors import NumbaError
 
+    announce_compile(function)
+    start = time.perf_counter()
     try:
-        return function(*args)
+        result = function(*args)
+        if LOGGER.isEnabledFor(logging.DEBUG) and sum(function.stats.cache_misses.values()):
+            LOGGER.debug("%s compiled in %.1f s", function.__name__, time.perf_counter() - start)
+        return result
     except NumbaError as exc:
         import numba
 

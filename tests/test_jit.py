@@ -1,0 +1,116 @@
+"""The compiled-code loader (:mod:`selfalign.solvers.jit`): its cache key covers every module the
+kernel is built from, and a compilation is announced before the wait."""
+
+import ast
+import logging
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from selfalign.solvers import jit
+
+PACKAGE = Path(jit.__file__).resolve().parents[1]
+
+
+def package_imports(relative: str) -> set[str]:
+    """Modules of the package (paths relative to it) that the module ``relative`` imports."""
+    path = PACKAGE / relative
+    package = path.parent.relative_to(PACKAGE.parent).parts
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.ImportFrom) and node.level:
+            base = list(package[: len(package) - node.level + 1])
+            module = base + (node.module.split(".") if node.module else [])
+        elif isinstance(node, ast.ImportFrom) and (node.module or "").startswith("selfalign"):
+            module = node.module.split(".")
+        else:
+            continue
+        for parts in [module + [alias.name] for alias in node.names]:
+            while len(parts) > 1:
+                candidate = PACKAGE.parent.joinpath(*parts).with_suffix(".py")
+                if candidate.is_file():
+                    found.add(str(candidate.relative_to(PACKAGE)))
+                    break
+                parts = parts[:-1]
+    return found
+
+
+def test_cache_key_covers_every_module_the_kernel_is_built_from():
+    """numba checks only the time stamp of the file of a decorated function; the cache directory is
+    keyed by the content of ``SOURCES`` instead, so an edit anywhere the kernel compiles from must be
+    in it: the closure of the kernel's imports inside the package equals ``SOURCES``."""
+    closure, todo = set(), ["solvers/kernel.py"]
+    while todo:
+        module = todo.pop()
+        if module not in closure:
+            closure.add(module)
+            todo.extend(package_imports(module))
+    assert "model/arcs.py" in closure and "solvers/records.py" in closure, closure
+    assert closure == set(jit.SOURCES), f"missing from SOURCES: {sorted(closure - set(jit.SOURCES))}; " \
+                                        f"not imported by the kernel: {sorted(set(jit.SOURCES) - closure)}"
+
+
+def test_a_source_edit_moves_the_cache_directory(tmp_path, monkeypatch):
+    """The cache directory is a digest of the sources: a changed byte in any of them gives another."""
+    monkeypatch.setenv("SELFALIGN_CACHE_DIR", str(tmp_path))
+    before = jit.cache_dir("0")
+    original = Path.read_bytes
+
+    def edited(self):
+        data = original(self)
+        return data + b"#" if self.name == "errors.py" else data
+
+    monkeypatch.setattr(Path, "read_bytes", edited)
+    assert jit.cache_dir("0") != before
+
+
+def test_first_compile_is_announced_once(tmp_path):
+    """On an empty cache the first solver call logs what compiles and where it is kept, before it
+    compiles; a second call in the same process says nothing more."""
+    code = ("import logging\n"
+            "logging.basicConfig(level=logging.INFO, format='%(name)s|%(message)s')\n"
+            "from selfalign.solvers import jit\n"
+            "jit.kernel()\n"
+            "K = jit.kernel()\n"
+            "import numpy as np\n"
+            "jit.call(K.modes, np.zeros(1), np.zeros(1), np.ones(1))\n"
+            "jit.call(K.modes, np.zeros(1), np.zeros(1), np.ones(1))\n")
+    env = {**os.environ, "SELFALIGN_CACHE_DIR": str(tmp_path)}
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=300)
+    assert out.returncode == 0, out.stderr
+    lines = [line for line in out.stderr.splitlines() if line.startswith("selfalign.solvers.jit|compiling")]
+    assert len(lines) == 1, out.stderr
+    assert str(tmp_path) in lines[0] and "once per machine" in lines[0]
+    again = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=300)
+    assert again.returncode == 0 and "compiling" not in again.stderr, again.stderr
+
+
+def test_no_announcement_without_a_cache_file(monkeypatch):
+    """An entry point that already ran in this process is not announced (nothing compiles)."""
+    seen = []
+    monkeypatch.setattr(jit, "_announced", False)
+    monkeypatch.setattr(jit.LOGGER, "info", lambda *a: seen.append(a))
+    K = jit.kernel()
+    import numpy as np
+
+    jit.call(K.modes, np.zeros(1), np.zeros(1), np.ones(1))
+    assert K.modes.signatures and not seen
+    assert logging.getLogger("selfalign.solvers.jit") is jit.LOGGER
+
+
+@pytest.mark.slow
+def test_cli_announces_the_first_compile_on_stderr(tmp_path):
+    """A first ``selfalign simulate`` on an empty cache says on stderr that it compiles, before the
+    result; the result itself (stdout) is unchanged by the announcement."""
+    scene = Path(__file__).resolve().parents[1] / "workflow" / "scenes" / "stop_zone.yaml"
+    env = {**os.environ, "SELFALIGN_CACHE_DIR": str(tmp_path)}
+    cold = subprocess.run([sys.executable, "-m", "selfalign", "simulate", str(scene)], env=env,
+                          capture_output=True, text=True, timeout=600)
+    warm = subprocess.run([sys.executable, "-m", "selfalign", "simulate", str(scene)], env=env,
+                          capture_output=True, text=True, timeout=600)
+    assert cold.returncode == warm.returncode == 0, cold.stderr + warm.stderr
+    assert cold.stderr.startswith("selfalign: compiling the event kernel"), cold.stderr
+    assert "compiling" not in warm.stderr and cold.stdout == warm.stdout
