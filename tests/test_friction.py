@@ -122,7 +122,9 @@ def test_friction_block_round_trips():
 def test_moreau_stribeck_step_solves_the_implicit_equation():
     """Moreau's implicit step under Stribeck friction returns the slip speed c of c + h mu_bar
     f(c) = u to rounding (f the Stribeck factor), for steep and gentle laws alike."""
-    speed = kernel()._stribeck_speed
+    kernel()                                # loads the engine: formulas registered, cache set
+    from selfalign.solvers.engine.timestepping import _stribeck_speed as speed
+
     for u, bound, ratio, v_s, delta in [(1e-3, 1e-4, 1.3, 1e-3, 2.0), (0.5, 1e-3, 1.5, 1e-2, 1.0),
                                         (2e-4, 1e-4, 1.5, 1e-5, 0.5), (1.0, 0.2, 1.1, 0.3, 2.0)]:
         c = speed(u, bound, ratio, v_s, delta)

@@ -91,7 +91,9 @@ def test_implicit_step_fixed_point_equals_soft_threshold():
     detect a stick (v = 0 exactly) on the same ones."""
     rng = np.random.default_rng(1)
     member = R.records(R.MEMBER_DTYPE, 1)[0]
-    step = kernel()._impulse
+    kernel()                                # loads the engine: formulas registered, cache set
+    from selfalign.solvers.engine.timestepping import _impulse as step
+
     for v_free, bound in zip(rng.uniform(-0.01, 0.01, 2000), rng.uniform(1e-4, 1e-2, 2000)):
         exact = step(member, v_free, bound, False, 1e-13, 200)
         fixed = step(member, v_free, bound, True, 1e-13, 200)

@@ -22,10 +22,10 @@ state (x_eq = x0 + acc0 / b1 = b3 / b1, d1 = -acc0 / b1, d2 = v0 / omega); writt
 way no term is the difference of two large ones, so positions keep full relative
 accuracy even for a tiny b1 or a short arc.  A STICK arc has v = 0 and x constant
 (eqs. 22-24).  SMOOTH arcs (a Fourier profile on a uniform surface) are closed form
-too, but in the profile: see :mod:`selfalign.solvers.kernel`.
+too, but in the profile: see :mod:`selfalign.solvers.engine.smooth`.
 
 Every function here is a scalar function of floats written with :mod:`math` only, so
-that the compiled event kernel (:mod:`selfalign.solvers.kernel`) runs these very
+that the compiled event kernel (:mod:`selfalign.solvers.engine`) runs these very
 functions compiled, and Python code (tests, analyses) can call them as they are.
 """
 

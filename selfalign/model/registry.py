@@ -2,7 +2,7 @@
 
 A function marked with :func:`formula` is a plain scalar Python function of floats
 (written with :mod:`math` only).  Python code calls it directly; when the event kernel
-(:mod:`selfalign.solvers.kernel`) is first loaded it registers every marked function
+(:mod:`selfalign.solvers.engine`) is first loaded it registers every marked function
 with numba, so that the compiled code calls this same function compiled, never a copy.
 Marking imports nothing: ``import selfalign`` stays light.
 """

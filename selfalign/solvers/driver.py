@@ -1,6 +1,6 @@
 """One driver for every method: :func:`simulate` (one scene) and :func:`simulate_batch`.
 
-Both hand their members to the compiled driver (:func:`selfalign.solvers.kernel.drive`),
+Both hand their members to the compiled driver (:func:`selfalign.solvers.engine.drive.drive`),
 which owns the horizon, the outcome decisions and the fast-forward of repeating
 periods with one set of constants; the exact solver and Moreau time-stepping are its
 steppers.  ``ivp`` (scipy's solve_ivp, :mod:`selfalign.solvers.ivp`) steps in Python and

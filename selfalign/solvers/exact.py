@@ -1,7 +1,7 @@
 """The exact event-driven solver (``method="exact"``): the profile rows it runs on.
 
 Model (Sect. 3.2, eqs. 6 and 38): x'' + y''(t) in -mu_bar(x) Sign(x').  The stepping
-itself is compiled (:mod:`selfalign.solvers.kernel`, its tie rules and outcome
+itself is compiled (:mod:`selfalign.solvers.engine`, its tie rules and outcome
 decisions are documented there); this module turns a profile into the kernel's row.
 
 Piecewise-constant profiles (ThreePhaseProfile, PolynomialProfile, any
@@ -22,7 +22,7 @@ x' = v0 - s (t - t0) - (y'(t) - y'(t0)) and x follows in closed form.  The event
 64 (order + 1) points per period (Fourier) or the breaks and 16 points per piece
 (piecewise-linear y'', where x' is a quadratic in t within a piece, so a zero of x' between
 grid points is found at its minimum; on a Fourier profile what can be missed is bounded in
-:func:`selfalign.solvers.kernel._slip_minimum`).  They are refined with Brent's method to
+:func:`selfalign.solvers.engine.smooth._slip_minimum`).  They are refined with Brent's method to
 |error| <= 2 eps dt + 4 eps t (eps = 2.2e-16).  A piecewise-linear row carries each piece's
 end value of y'' too: y'' is kept between a piece's start and end values.
 """

@@ -40,7 +40,7 @@ Velocities are set to exactly 0 at v = 0 events and positions exactly onto a zon
 boundary at zone events.
 
 The outcome decisions are those of every method, made by the compiled driver's own
-functions (:mod:`selfalign.solvers.kernel`: REST and ACCUMULATION at stick events, the
+functions (:mod:`selfalign.solvers.engine`: REST and ACCUMULATION at stick events, the
 period-boundary cycle tests, the horizon); this module only steps.  Event location at a
 finite tolerance rarely repeats a period-boundary state to the driver's tolerance, so a
 periodic motion inside the zone usually ends with HORIZON (reason BOUNDED) here.  The
@@ -61,11 +61,10 @@ import numpy as np
 
 from ..model.friction import StopZone, coefficient, decide_mode, stribeck_factor
 from . import records as R
+from .engine.codes import DONE, STOP_BUDGET, STOP_STALL
 from .jit import call, kernel
 from .outcomes import HIGH, LOW, MAX_CYCLE, STALL_EVENTS, STALL_ULPS, ZONE, EventKind, Reason
 
-#: Kernel stepper results the ivp loop produces (see :mod:`selfalign.solvers.kernel`).
-_DONE, _STOP_BUDGET, _STOP_STALL = 0, 4, 5
 #: The slip modes a stick can end in, in the order of the stick's exit events.
 _SLIP_MODES = (-1, 1)
 
@@ -229,7 +228,7 @@ class _Run:
             self.record_event_sample()
             if before != 0 and self.mode == 0:
                 return stick(self.x, self.mu_bar(self.x))
-        return _DONE
+        return DONE
 
     def stick(self, tau_a, tau_b):
         from scipy.integrate import solve_ivp
@@ -258,7 +257,7 @@ class _Run:
             self.set_time(tau_e)
             self.log(EventKind.SLIP, 0)
             self.record_event_sample()
-            return _DONE
+            return DONE
         self.sample(tau_a, tau_b, lambda g: (np.full(g.size, x), np.zeros(g.size)))
         return self.finish_piece(tau_b, None)
 
@@ -321,7 +320,7 @@ class _Run:
             self.record_event_sample()
             if which == 0 and self.mode == 0:
                 return stick(self.x, self.mu_bar(self.x))
-            return _DONE
+            return DONE
         self.sample(tau_a, tau_b, lambda g: sol.sol(g))
         self.x, self.v = float(sol.y[0, -1]), float(sol.y[1, -1])
         self.moved(x0, self.x)
@@ -373,23 +372,23 @@ def solve(scene, options: dict, cpu0: float):
         s["stop_n"], s["stop_tau"] = (run.p, run.tau)
         return code_
 
-    while code == _DONE and (run.p, run.tau) < (total, run.tau0):    # the horizon is (total, tau0)
+    while code == DONE and (run.p, run.tau) < (total, run.tau0):    # the horizon is (total, tau0)
         out = run.step(stick)
         if isinstance(out, tuple):
             reason, detail = int(out[0]), out[1]
-            stop(_DONE)
+            stop(DONE)
             s["stop_n"], s["stop_tau"] = run.p, run.tau
             break
         call(K.moved_entry, members, s["xi"], run.x)
         s["xi"] = run.x
-        if out != _DONE:
+        if out != DONE:
             code = stop(out)
             break
         if run.n_events > options["max_events"]:
-            code = stop(_STOP_BUDGET)
+            code = stop(STOP_BUDGET)
             break
         if run.stalled > STALL_EVENTS:
-            code = stop(_STOP_STALL)
+            code = stop(STOP_STALL)
             break
         if run.at_boundary():
             v0, mode0, xi0, path0 = s["v"], s["mode"], run.boundary_x, s["path"]
@@ -407,7 +406,7 @@ def solve(scene, options: dict, cpu0: float):
             run.boundary_x, run.lo, run.hi, run.regions = run.x, 0.0, 0.0, 0
             if reason >= 0 or horizon:
                 break
-    if reason < 0 and code == _DONE:
+    if reason < 0 and code == DONE:
         s["xi"], s["v"], s["mode"], s["n"] = run.x, run.v, run.mode, run.p
     call(K.finish_entry, members, code, reason, until)
     samples = None

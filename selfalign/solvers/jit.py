@@ -1,4 +1,4 @@
-"""Loading the compiled event kernel (:mod:`selfalign.solvers.kernel`) on first use.
+"""Loading the compiled engine (:mod:`selfalign.solvers.engine`) on first use.
 
 numba is imported here and nowhere else at import time of a solver call, so that
 ``import selfalign`` stays light.  :func:`kernel`:
@@ -31,8 +31,10 @@ from pathlib import Path
 
 #: Source files the compiled kernel is built from (relative to the package): the kernel and every
 #: module of the package it imports, directly or not (tests/test_jit.py checks the closure).
-SOURCES = ("solvers/kernel.py", "solvers/records.py", "solvers/outcomes.py", "model/arcs.py",
-           "model/friction.py", "model/registry.py", "model/errors.py")
+SOURCES = tuple(f"solvers/engine/{name}.py" for name in (
+    "entries", "codes", "compiled", "recording", "field", "piecewise", "smooth", "jerk_zone", "timestepping", "drive",
+    "python_stepper", "dense")) + ("solvers/records.py", "solvers/outcomes.py", "model/arcs.py", "model/friction.py",
+                                   "model/registry.py", "model/errors.py")
 #: The logger that announces a compilation (and how long it took).
 LOGGER = logging.getLogger(__name__)
 #: Wall time of compiling the entry points of one solver run on an empty cache, as told to the
@@ -68,7 +70,8 @@ def cache_dir(numba_version: str) -> Path:
 
 
 def kernel():
-    """The compiled kernel module, imported (not yet compiled) on the first call."""
+    """The engine's entry points (:mod:`selfalign.solvers.engine.entries`), imported (not yet
+    compiled) on the first call."""
     global _kernel
     if _kernel is not None:
         return _kernel
@@ -86,7 +89,7 @@ def kernel():
     previous = numba.config.CACHE_DIR
     numba.config.CACHE_DIR = str(cache_dir(numba.__version__))
     try:
-        from . import kernel as module
+        from .engine import entries as module
     finally:
         numba.config.CACHE_DIR = previous
     _kernel = module
@@ -96,7 +99,7 @@ def kernel():
 def _uncached(function) -> bool:
     """Whether ``function`` (a kernel entry point) has not run in this process and has no entry in
     the compiled-code cache on disk, so that calling it compiles it."""
-    if function.signatures:
+    if getattr(function, "signatures", True):            # compiled in this process, or run uncompiled
         return False
     index = getattr(getattr(getattr(function, "_cache", None), "_cache_file", None), "_index_path", None)
     return index is not None and not os.path.exists(index)
@@ -121,7 +124,8 @@ def call(function, *args):
     start = time.perf_counter()
     try:
         result = function(*args)
-        if LOGGER.isEnabledFor(logging.DEBUG) and sum(function.stats.cache_misses.values()):
+        misses = getattr(function, "stats", None)
+        if LOGGER.isEnabledFor(logging.DEBUG) and misses and sum(misses.cache_misses.values()):
             LOGGER.debug("%s compiled in %.1f s", function.__name__, time.perf_counter() - start)
         return result
     except NumbaError as exc:

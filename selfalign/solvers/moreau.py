@@ -25,7 +25,7 @@ precomputed periodic array (the profile row, :func:`profile_row`).  While v = 0 
 step is the identity as long as |impulse| <= h mu_bar (v* lies in the stick window),
 so the kernel jumps to the next step that can start a slip, bit for bit the result of
 stepping through.  Outcomes are those of every method (the driver,
-:mod:`selfalign.solvers.kernel`): REST is v = 0 where the scheme can stick for good,
+:mod:`selfalign.solvers.engine.timestepping`): REST is v = 0 where the scheme can stick for good,
 h mu_bar >= max |impulse|, i.e. mu_bar >= max|impulse| / h (the scheme's own
 max|y''|); an ACCUMULATION ends at the scheme's limit, x_stick_min of eq. (41) for that
 acceleration.  Dense output is the state at the steps nearest a uniform grid of

@@ -1,0 +1,92 @@
+"""The compiled engine: steppers under one contract, one driver, for one trajectory or many.
+
+Load it through :func:`selfalign.solvers.jit.kernel` (which registers the model's formulas with
+numba and sets its cache directory first); importing this package compiles nothing, and
+:mod:`.codes` (the named codes) imports no numba at all.
+
+Layout
+------
+* :mod:`.codes`: stepper results, reasons, event and arc kinds (plain ints, no numba);
+* :mod:`.compiled`: the compilation settings and arrays passed without reference counting;
+* :mod:`.rows`: reading a profile row (the one place that knows the row layout of
+  :mod:`selfalign.solvers.records`);
+* :mod:`.field`: the friction field (eqs. 7-9) and stick outcomes every stepper shares;
+* :mod:`.recording`: arcs, events and samples of a recorded run;
+* the steppers, one module each: :mod:`.piecewise` (exact, piecewise-constant profiles),
+  :mod:`.smooth` (exact, Fourier and finite-jerk profiles on a uniform surface),
+  :mod:`.jerk_zone` (exact, finite-jerk profiles on a stop zone), :mod:`.timestepping` (Moreau);
+* :mod:`.drive`: the driver loop, the outcome decisions and the entry points;
+* :mod:`.python_stepper`: the driver's decisions for a stepper written in Python (ivp);
+* :mod:`.dense`: dense output of the recorded arcs.
+
+Every trajectory is one :data:`~selfalign.solvers.records.MEMBER_DTYPE` record (its inputs,
+working state and outcome); :func:`.drive.run_members` drives each member of an array of them,
+the same code for one trajectory (``selfalign.simulate``) and for a batch, so scalar and batch
+results are bit-identical by construction.  Positions are relative to an origin (x_mu on a stop
+zone, else x0), so that x_mu = 1e6 costs no accuracy in the zone; time is (period n, tau in
+[0, dt)), period boundaries at the start phase tau0.
+
+The stepper contract
+--------------------
+A stepper advances one member by one period.  It is a compiled function
+
+    ``period_<name>(s, row, run, bnd, cross, record, buffers, scratch) -> code``
+
+* ``s``: the member record.  On entry the state at the period boundary (n, tau0): ``s.xi``,
+  ``s.v``, ``s.mode`` (-1, 0, +1: backward slip, stick, forward slip) and the derived constants
+  :func:`.drive.prepare_member` set (``s.b1``, ``s.omega``, ``s.rest_acc``, ``s.xs``, ...).
+* ``row``: the profile row (:mod:`.rows` reads it); ``run``: the run settings record
+  (:data:`~selfalign.solvers.records.RUN_DTYPE`: horizon code ``until``, ``max_events``, the
+  Moreau iteration options); ``bnd``, ``cross``: the boundaries whose first crossings are
+  recorded (:func:`.field.record_crossings`) and their records; ``record``: a compile-time
+  constant, whether arcs, events and samples are recorded into ``buffers`` (arcs, events,
+  samples, sample steps; :mod:`.recording`); ``scratch``: the stepper's own work arrays (what
+  its ``scratch_<name>`` function allocated once per run; empty for most).
+
+It returns :data:`.codes.DONE` when the period is complete, with the state at (n + 1, tau0)
+written back (``s.xi``, ``s.v``, ``s.mode``, ``s.n = n + 1``) and the period's running totals
+(:func:`.field.save_period`: events, path, largest x, displacement and its extremes, regions
+visited), which the driver's cycle search and fast-forward read.  It reports an event by:
+counting it in ``s.events`` (the event budget ``max_events`` is checked against it), calling
+:func:`.field.on_stick` at every stick (which decides REST, ACCUMULATION and FIRST_STICK from
+the model's stick rule), :func:`.field.record_crossings` when a boundary may have been
+crossed, and :func:`.recording.record_event` / :func:`.recording.record_arc` if ``record``.  It
+stops inside a period by returning a ``STOP_*`` code through :func:`.field.stop_at` (the state
+and time where it stopped): ``STOP_REST``, ``STOP_ACCUMULATION``, ``STOP_FIRST_STICK`` (from
+:func:`.field.on_stick`), ``STOP_BUDGET`` (``max_events`` reached) or ``STOP_STALL`` (more than
+:data:`~selfalign.solvers.outcomes.STALL_EVENTS` zero-length events in a row).  A failure of
+the arithmetic needs no code: the driver checks that x and v are finite after every period
+and ends the run with reason NONFINITE at the last finite state.  A stepper never decides an
+outcome itself, never allocates, and keeps the tie rules below.
+
+A new stepper (several parts, planar motion) is a module with its ``period_<name>`` function,
+a method code in :mod:`selfalign.solvers.records` and one line in :func:`.drive.step`, the
+dispatch; the driver specialises on the method code (a compile-time constant), so a run
+compiles only the stepper it uses.
+
+Tie rules of the exact solver
+-----------------------------
+They make every zero-length step change the mode, so there is no Zeno loop:
+
+1. |y''| = r mu_bar counts as stick.
+2. v = 0 and a zone crossing at the same time: the v = 0 event wins (mu_bar is continuous, so
+   no crossing is needed to decide the mode).
+3. v = 0 exactly at a break (grazing): the v = 0 event is handled first with the ending
+   piece's y'', then the break re-decides the mode with the new piece's y''.
+4. A slip velocity of the wrong sign (rounding, at most a few ulp) is set to 0 at the start of
+   an arc; an arc that decelerates from v = 0 then ends at once with a v = 0 event, which
+   always changes the mode.
+5. A mass exactly on a zone boundary belongs to the region it moves into (stuck: x = x_mu
+   counts as low friction, x = x_mu + w as high friction).
+
+Outcome decisions (:func:`.drive.drive`, README "Solvers")
+----------------------------------------------------------
+REST at a stick where r mu_bar(x) >= the stepper's rest acceleration (max|y''|; Moreau:
+max|impulse| / h); ACCUMULATION at a stick in the transition zone above the previous zone
+stick and within ``acc_tol`` of x_stick_min (eq. 41); NEVER_STOPS when the period-boundary
+state repeats (exactly, or to NEAR_ULPS ulp while the mass moved MOTION_FACTOR times that
+tolerance in between) with no progress, or repeats in one region of constant friction while
+the mass walks away from the zone or through it; HORIZON at the horizon; ERROR on the event
+budget, a stall or an overflow.  A bit-exact repeat of the period-boundary state is also
+fast-forwarded (skipped in whole cycles) unless a recording is asked for.
+"""

@@ -1,0 +1,348 @@
+"""The driver: one loop for every stepper and every member.  It owns the horizon, the outcome
+decisions (REST, ACCUMULATION, NEVER_STOPS, HORIZON, ERROR) and the fast-forward of repeating
+periods; a stepper advances one member by one period (the contract: :mod:`selfalign.solvers.engine`).
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import literally
+
+from ...model import friction as F
+from .. import records as R
+from ..outcomes import ACC_TOL_ULPS, HIGH, LOW, MOTION_FACTOR, NEAR_ULPS
+from .codes import (
+    ARC_STICK,
+    DONE,
+    EPS,
+    INF,
+    NAN,
+    REASON_ACCUMULATION,
+    REASON_BOUNDED,
+    REASON_FIRST_STICK,
+    REASON_MAX_EVENTS,
+    REASON_MAX_PERIODS,
+    REASON_NONFINITE,
+    REASON_PERIODIC,
+    REASON_PERIODS,
+    REASON_REST,
+    REASON_STALL,
+    REASON_WALK_BACKWARD,
+    REASON_WALK_FORWARD,
+    STOP_ACCUMULATION,
+    STOP_BUDGET,
+    STOP_FIRST_STICK,
+    STOP_REST,
+    STOP_STALL,
+)
+from .compiled import borrowed_all, inlined, jit
+from .field import friction_at, holds_for_good, record_crossings
+from .jerk_zone import period_jerk_zone
+from .piecewise import period_piecewise, piece_at
+from .recording import record_sample
+from .smooth import grid_scratch, period_smooth, smooth_grid
+from .timestepping import period_moreau
+
+
+@jit
+def prepare_member(s, row, method, acc_tol):
+    """Derived constants of a member and its state at the run start (n = 0, time tau0)."""
+    s.b1 = (s.c_mu - 1.0) / s.w if s.zone else 0.0
+    s.omega = math.sqrt(s.b1)
+    s.rest_acc = row[R.REST_ACC]
+    # Permanent stick needs r mu_bar >= max|y''|: eq. (41) for max|y''| / r.
+    s.xs = F.stick_limit(row[R.REST_ACC] / s.static_ratio, s.w, s.c_mu) if s.zone else INF
+    s.acc_tol = max(acc_tol, ACC_TOL_ULPS * EPS * s.w) if s.zone else acc_tol
+    s.n, s.fresh, s.events, s.steps = 0, True, 0, 0
+    s.sticks, s.zone_sticks, s.nh = 0, 0, 0
+    s.h1, s.h2 = NAN, NAN
+    s.first_stick_xi, s.first_stick_n, s.first_stick_tau = NAN, -1, NAN
+    s.at_rest = False
+    s.xi_max, s.path, s.fast_forward = s.xi, 0.0, 0
+    s.n_arcs, s.n_events, s.n_samples = 0, 0, 0
+    s.fp_iterations, s.fp_unconverged, s.fp_max_change = 0, 0, 0.0
+    s.contraction, s.advance, s.cycle, s.cycle_region, s.last_stick = NAN, NAN, 0, -1, NAN
+    s.stop_n, s.stop_tau = 0, s.tau0
+    s.dxp, s.lo, s.hi, s.regions = 0.0, 0.0, 0.0, 0
+
+
+@jit
+def start_mode(s, a, until, moreau, holds_scale):
+    """The mode at the start under table acceleration ``a``: the sign of v0, or at v0 = 0
+    the stick/slip decision (Moreau: stuck until a step says otherwise); REST if stuck for
+    good (Moreau: ``holds_scale`` = (h, largest |impulse|), the step's test).  No stick
+    event is counted for the initial state."""
+    if s.v != 0.0:
+        s.mode = 1 if s.v > 0.0 else -1
+        return DONE
+    mu = friction_at(s, s.xi)
+    s.mode = 0 if moreau else F.decide_mode(a, s.static_ratio * mu)
+    holds = holds_scale[0] * mu * s.static_ratio >= holds_scale[1] if moreau else holds_for_good(s, mu)
+    if s.mode == 0 and holds:
+        s.at_rest = True
+        if until != R.UNTIL_PERIODS:
+            s.stop_n, s.stop_tau = 0, s.tau0
+            return STOP_REST
+    return DONE
+
+
+@jit
+def _region_of_mask(regions):
+    if regions == 1 << LOW:
+        return LOW
+    if regions == 1 << HIGH:
+        return HIGH
+    return -1
+
+
+@jit
+def _cycles(s, hist, count, max_cycle, near, swing):
+    """The shortest k-period cycles ending now, in one pass over the history:
+    (k, region, k_near, region_near), k = 0 where there is none.
+
+    k: a bit-exact repeat, of (v, mode) when all k periods stayed in one region of
+    constant friction (translation invariance: region >= 0, the mass may have moved), else
+    of (x, v, mode) (region -1).  k_near (only if ``near``, and only one shorter than k): a
+    near repeat (see NEAR_ULPS, MOTION_FACTOR).  :func:`_cycle_span` gives a cycle's advance.
+    ``hist`` is a ring of the last ``max_cycle`` periods, the newest at (count - 1) mod max_cycle.
+    """
+    tol_x = NEAR_ULPS * EPS * (abs(s.xi) + (s.w if s.zone else 0.0))
+    tol_v = NEAR_ULPS * EPS * (abs(s.v) + swing)
+    last = (count - 1) % max_cycle
+    idx = last + 1
+    region = -1
+    k_near = 0
+    region_near = -1
+    for k in range(1, min(count, max_cycle) + 1):
+        idx -= 1                      # the period that started k periods ago
+        if idx < 0:
+            idx += max_cycle
+        h = hist[idx]
+        # The region all of the last k periods stayed in (-1: none), kept up as k grows.
+        if k == 1:
+            region = _region_of_mask(h.regions)
+        elif _region_of_mask(h.regions) != region:
+            region = -1
+        if h.mode != s.mode:
+            continue
+        dv = abs(h.v - s.v)
+        dx = abs(h.xi - s.xi)
+        if dv == 0.0 and (region >= 0 or dx == 0.0):
+            return k, region, k_near, region_near
+        if near and k_near == 0 and dv <= tol_v and (
+                region >= 0 or dx <= tol_x and s.path - h.path > MOTION_FACTOR * tol_x):
+            k_near, region_near = k, region
+    return 0, -1, k_near, region_near
+
+
+@jit
+def _cycle_span(hist, count, max_cycle, k):
+    """(advance, lo, hi) of the last k periods: the displacement over them and the extreme
+    displacements within them."""
+    j = (count - k) % max_cycle
+    cum = 0.0
+    lo = 0.0
+    hi = 0.0
+    for _ in range(k):
+        p = hist[j]
+        lo = min(lo, cum + p.lo)
+        hi = max(hi, cum + p.hi)
+        cum += p.dxp
+        j += 1
+        if j >= max_cycle:
+            j -= max_cycle
+    return cum, lo, hi
+
+
+@jit
+def _verdict(s, region, advance):
+    """NEVER_STOPS reason for a cycle (until='rest'), or -1 (no verdict: it moves on)."""
+    if region < 0:
+        return REASON_PERIODIC
+    if not s.zone:
+        return REASON_PERIODIC if advance == 0.0 else (
+            REASON_WALK_FORWARD if advance > 0.0 else REASON_WALK_BACKWARD)
+    if region == LOW and advance <= 0.0:
+        return REASON_PERIODIC if advance == 0.0 else REASON_WALK_BACKWARD
+    if region == HIGH and advance >= 0.0:
+        return REASON_PERIODIC if advance == 0.0 else REASON_WALK_FORWARD
+    return -1
+
+
+@jit
+def _skippable(s, region, advance, lo, hi, cycles):
+    """How many of ``cycles`` repeats keep the mass in its region of constant friction
+    (one cycle of margin: the following cycle is simulated normally)."""
+    if not s.zone or advance == 0.0:
+        return cycles
+    if region == LOW and advance > 0.0:
+        room = -(s.xi + hi)
+    elif region == HIGH and advance < 0.0:
+        room = s.xi + lo - s.w
+    else:
+        return cycles
+    return max(0, min(cycles, int(math.floor(room / abs(advance))) - 1))
+
+
+@inlined
+def after_period(s, hist, count, max_cycle, swing, until, total, fast_forward, v0, mode0, xi0, path0):
+    """After a completed period that started in state (v0, mode0, xi0): record it, then
+    decide (until='rest', 'stick') or fast-forward on a repeating period-boundary state.
+    Returns (reason or -1 to go on, history count, horizon reached)."""
+    if s.n >= total:
+        return -1, count, True
+    if until == R.UNTIL_PERIODS and not fast_forward:
+        return -1, count, False             # nothing to decide, nothing to skip: no history
+    h = hist[count % max_cycle]
+    h.v, h.xi, h.mode, h.path = v0, xi0, mode0, path0
+    h.dxp, h.lo, h.hi, h.regions = s.dxp, s.lo, s.hi, s.regions
+    count += 1
+    k, region, k_near, region_near = _cycles(s, hist, count, max_cycle, until != R.UNTIL_PERIODS, swing)
+    if until == R.UNTIL_CYCLE and k_near > 0 and (k == 0 or k_near < k):
+        # The periodic motion itself: the shortest k at which the state repeats exactly or to
+        # the near-repeat tolerance (an attracting orbit can settle into an ulp-level 2-cycle).
+        k, region = k_near, region_near
+    elif k == 0 and (until == R.UNTIL_REST or until == R.UNTIL_STICK):
+        k, region = k_near, region_near
+    elif k > 0 and until != R.UNTIL_CYCLE:
+        advance, lo, hi = _cycle_span(hist, count, max_cycle, k)
+        advance = advance if region >= 0 else 0.0
+        if until != R.UNTIL_PERIODS:
+            reason = _verdict(s, region, advance)
+            if reason >= 0:
+                s.advance, s.cycle, s.cycle_region = advance / k, k, region
+                return reason, count, False
+        if fast_forward:
+            cycles = (total - s.n) // k
+            if region >= 0:
+                cycles = _skippable(s, region, advance, lo, hi, cycles)
+                s.xi += cycles * advance
+            if cycles > 0:
+                s.n += cycles * k
+                s.fast_forward += cycles * k
+                count = 0
+        return -1, count, False
+    if k > 0:
+        advance = _cycle_span(hist, count, max_cycle, k)[0] if region >= 0 else 0.0
+        reason = _verdict(s, region, advance)
+        if reason >= 0:
+            s.advance, s.cycle, s.cycle_region = advance / k, k, region
+            return reason, count, False
+    return -1, count, False
+
+
+@jit
+def finish_run(s, code, reason, until):
+    """The reason a run ended (from the stepper's stop code if no verdict) and its end time."""
+    if reason < 0:
+        if code == STOP_REST:
+            reason = REASON_REST
+        elif code == STOP_ACCUMULATION:
+            reason = REASON_ACCUMULATION
+            s.xi, s.v = s.xs, 0.0
+        elif code == STOP_FIRST_STICK:
+            reason = REASON_FIRST_STICK
+        elif code == STOP_BUDGET:
+            reason = REASON_MAX_EVENTS
+        elif code == STOP_STALL:
+            reason = REASON_STALL
+        elif until == R.UNTIL_PERIODS:
+            reason = REASON_PERIODS
+        elif s.zone and s.xi_max >= 0.0:
+            reason = REASON_BOUNDED
+        else:
+            reason = REASON_MAX_PERIODS
+    s.reason = reason
+    if code != DONE or reason == REASON_NONFINITE:
+        s.n_end, s.tau_end = s.stop_n, s.stop_tau
+    else:
+        s.n_end, s.tau_end = s.n, s.tau0
+
+
+@jit
+def drive(s, method, row, until, total, max_events, max_cycle, acc_tol, bnd, cross, record, fast_forward, hist,
+          scratch, arcs, events, samples, sample_steps, fixed_point, fp_tol, fp_max_iter):
+    """Run member ``s`` to its outcome (module docstring), recording into the buffers if asked.
+
+    ``hist`` is scratch space for ``max_cycle`` period records, ``scratch`` that of the
+    smooth stepper's grid (:func:`grid_scratch`); ``fast_forward`` allows
+    skipping bit-exact repeating periods (off while recording).  ``record`` is a
+    compile-time constant (two specialisations), so a run that records nothing carries no
+    recording code in its loops.
+    """
+    literally(record)
+    prepare_member(s, row, method, acc_tol)
+    swing = row[R.SWING]
+    if method == R.EXACT_SMOOTH:
+        grid, g_yd, g_ydd = smooth_grid(row, s.tau0, scratch)
+        a0 = g_ydd[0]
+    else:
+        grid, g_yd, g_ydd = scratch[0, :0], scratch[1, :0], scratch[2, :0]
+        a0 = 0.0
+        if method == R.EXACT_PIECEWISE:
+            s.piece0 = piece_at(row, s.tau0)
+            a0 = row[R.DATA + 2 + int(row[R.DATA]) + s.piece0]
+    count = 0
+    reason = -1
+    moreau = method == R.MOREAU
+    code = start_mode(s, a0, until, moreau, (row[R.DATA + 1], row[R.DATA + 2]) if moreau else (0.0, 0.0))
+    record_crossings(s, bnd, cross, ARC_STICK, 0.0, s.xi, s.v, 0.0, s.xi, s.v, 0, s.tau0, 0.0)
+    while code == DONE and s.n < total:
+        v0, mode0, xi0, path0 = s.v, s.mode, s.xi, s.path
+        if method == R.EXACT_PIECEWISE:
+            code = period_piecewise(s, row, until, max_events, bnd, cross, record, arcs, events)
+        elif method == R.EXACT_SMOOTH and s.zone:
+            code = period_jerk_zone(s, row, until, max_events, bnd, cross, record, arcs, events)
+        elif method == R.EXACT_SMOOTH:
+            code = period_smooth(s, row, until, max_events, bnd, cross, record, arcs, events,
+                                                grid, g_yd, g_ydd)
+        else:
+            code = period_moreau(s, row, until, bnd, cross, record, samples, sample_steps,
+                                           fixed_point, fp_tol, fp_max_iter)
+        if not (math.isfinite(s.xi) and math.isfinite(s.v)):
+            s.xi, s.v, s.mode = xi0, v0, mode0
+            if code == DONE:
+                s.n -= 1
+            s.stop_n, s.stop_tau = s.n, s.tau0
+            reason = REASON_NONFINITE
+            break
+        if code != DONE:
+            break
+        reason, count, horizon = after_period(s, hist, count, max_cycle, swing, until, total,
+                                               fast_forward and not record, v0, mode0, xi0, path0)
+        if reason >= 0 or horizon:
+            break
+    finish_run(s, code, reason, until)
+    if record and method == R.MOREAU:
+        record_sample(samples, s, s.n_end, s.tau_end, s.xi, s.v, s.mode)
+
+
+@jit
+def run_members(members, method, table, until, total, max_events, max_cycle, acc_tol, bnd, cross, fast_forward,
+                fixed_point, fp_tol, fp_max_iter, hist, arcs, events, samples, steps):
+    """Drive every member (no recording): the batch, and one trajectory without series.
+    ``hist`` is scratch space (HIST_DTYPE, max_cycle records); the recording buffers are
+    passed (empty) only so that the same :func:`drive` serves both entry points.  Every
+    record array is allocated by the caller (numpy record arrays, so that the kernel also
+    runs uncompiled, NUMBA_DISABLE_JIT=1)."""
+    scratch = grid_scratch(method, table)
+    table, bnd, cross, hist, arcs, events, samples, steps = borrowed_all(table, bnd, cross, hist, arcs, events,
+                                                                          samples, steps)
+    for i in range(members.shape[0]):
+        s = members[i]
+        drive(s, method, table[s.profile], until, total, max_events, max_cycle, acc_tol, bnd[i], cross[i], False,
+              fast_forward, hist, scratch, arcs, events, samples, steps, fixed_point, fp_tol, fp_max_iter)
+
+
+@jit
+def run_recorded(members, method, table, until, total, max_events, max_cycle, acc_tol, bnd, cross,
+                 fixed_point, fp_tol, fp_max_iter, hist, arcs, events, samples, sample_steps):
+    """Drive member 0 recording its arcs and events (exact) or samples (Moreau) into the
+    buffers; the member's n_arcs, n_events, n_samples say how many there were (a buffer
+    that was too small holds the first ones only: run again with larger buffers)."""
+    table, bnd, cross, hist, arcs, events, samples, sample_steps = borrowed_all(table, bnd, cross, hist, arcs, events,
+                                                                                 samples, sample_steps)
+    s = members[0]
+    drive(s, method, table[s.profile], until, total, max_events, max_cycle, acc_tol, bnd[0], cross[0], True, False,
+          hist, grid_scratch(method, table), arcs, events, samples, sample_steps, fixed_point, fp_tol, fp_max_iter)
