@@ -39,7 +39,7 @@ class _Prepared:
     """Everything a run of one scene with one method and options needs that does not
     change between runs (cached on the scene: a Scene is immutable)."""
 
-    __slots__ = ("options", "code", "row", "table", "template", "origin", "args", "tail", "steps")
+    __slots__ = ("options", "code", "row", "table", "template", "origin", "run", "args", "steps")
 
     def members(self) -> np.ndarray:
         """A fresh member record (from bytes: numpy copies structured arrays field by field, 15x slower)."""
@@ -55,9 +55,10 @@ class _Prepared:
         members, self.origin = scene_member(scene)
         self.template = members.tobytes()
         o = self.options
-        self.args = (self.code, self.table, R.UNTIL_CODES[scene.until], scene.horizon_periods,
-                     o.get("max_events", 2**62), MAX_CYCLE, o["accumulation_tol"], _NO_BOUNDARIES, _no_crossings())
-        self.tail = (o.get("iteration") == "fixed_point", o.get("fp_tol", 0.0), o.get("fp_max_iter", 1))
+        self.run = _run_settings(R.UNTIL_CODES[scene.until], scene.horizon_periods, o.get("max_events", 2**62),
+                                 MAX_CYCLE, o["accumulation_tol"], True, o.get("iteration") == "fixed_point",
+                                 o.get("fp_tol", 0.0), o.get("fp_max_iter", 1))
+        self.args = (self.code, self.table, self.run, _NO_BOUNDARIES, _no_crossings())
         self.steps = (moreau.sample_steps(int(self.row[R.DATA]), scene.record.samples_per_period)
                       if self.code == R.MOREAU and scene.record.dense else _NO_STEPS)
 
@@ -98,14 +99,14 @@ def simulate(scene: Scene, method: str | None = None, **options) -> Trajectory:
     record = scene.record
     arcs = events = samples = None
     if record.dense or record.events or record.arcs:
-        arcs, events, samples = _recorded_run(K, members, (members,) + prep.args, prep.tail, prep.steps)
+        arcs, events, samples = _recorded_run(K, members, (members,) + prep.args, prep.steps)
     else:
-        call(K.run_members, members, *prep.args, True, *prep.tail, _hist(), *_no_recording())
+        call(K.run_members, members, *prep.args, _hist(), *_no_recording())
     return trajectory(scene, method, prep.options, prep.code, prep.row, members[0], prep.origin, arcs, events,
                        samples, time.process_time() - cpu0)
 
 
-def _recorded_run(K, members, args, tail, steps):
+def _recorded_run(K, members, args, steps):
     """Run with recording; if a buffer was too small, run again (deterministic) with the
     counted sizes.  Returns the arcs, events and samples recorded."""
     start = members.copy()
@@ -113,7 +114,7 @@ def _recorded_run(K, members, args, tail, steps):
     while True:
         buffers = (_records(R.ARC_DTYPE, sizes[0]), _records(R.EVENT_DTYPE, sizes[1]),
                    _records(R.SAMPLE_DTYPE, sizes[2]))
-        call(K.run_recorded, *args, *tail, _hist(), *buffers, steps)
+        call(K.run_recorded, *args, _hist(), *buffers, steps)
         rec = members[0]
         counts = (int(rec["n_arcs"]), int(rec["n_events"]), int(rec["n_samples"]))
         if all(c <= size for c, size in zip(counts, sizes)):
@@ -137,6 +138,12 @@ def _records(dtype, size: int | tuple = 0) -> np.ndarray:
     uncompiled, a record array (:func:`~selfalign.solvers.records.records`), whose fields the
     kernel reads as attributes."""
     return np.zeros(size, dtype=dtype) if _compiled() else R.records(dtype, size)
+
+
+def _run_settings(*args) -> np.ndarray:
+    """:func:`~selfalign.solvers.records.run_settings`, as :func:`_records` hands records to the kernel."""
+    run = R.run_settings(*args)
+    return run if _compiled() else run.view(np.recarray)
 
 
 def _hist(size: int = MAX_CYCLE) -> np.ndarray:
@@ -311,10 +318,11 @@ def simulate_batch(profiles, x0, v0=0.0, phase=0.0, *, profile_index=None, surfa
     crossings["tau"] = crossings["v"] = np.nan
     relative = boundaries - origin[:, None]
     K = kernel()
-    call(K.run_members, members, table.code, table.rows, until_code, total, options.get("max_events", 2**62),
-         int(max_cycle), options["accumulation_tol"], relative, crossings, bool(fast_forward),
-         options.get("iteration") == "fixed_point", options.get("fp_tol", 0.0), options.get("fp_max_iter", 1),
-         _hist(int(max_cycle)), *_no_recording())
+    run = _run_settings(until_code, total, options.get("max_events", 2**62), int(max_cycle),
+                        options["accumulation_tol"], bool(fast_forward), options.get("iteration") == "fixed_point",
+                        options.get("fp_tol", 0.0), options.get("fp_max_iter", 1))
+    call(K.run_members, members, table.code, table.rows, run, relative, crossings, _hist(int(max_cycle)),
+         *_no_recording())
     if method == "moreau":
         options = {**options, "h": float(table.rows[0, R.DATA + 1])}
     return BatchResult(records=members.view(np.recarray), origin=origin, dt=dt, boundaries=boundaries,

@@ -36,6 +36,22 @@ UNTIL_CODES = {"periods": UNTIL_PERIODS, "rest": UNTIL_REST, "stick": UNTIL_STIC
 #: Profile-table header columns.
 DT, AMAX, SWING, REST_ACC, DATA = 0, 1, 2, 3, 4
 
+#: The settings of one run of the driver, the same for every member (one record): the horizon
+#: (``until`` code, ``total`` periods), the event budget, the longest cycle recognised, the
+#: accumulation tolerance, whether repeating periods may be skipped, and Moreau's iteration.
+RUN_DTYPE = np.dtype([("until", "i8"), ("total", "i8"), ("max_events", "i8"), ("max_cycle", "i8"),
+                      ("acc_tol", "f8"), ("fp_tol", "f8"), ("fp_max_iter", "i8"), ("fast_forward", "?"),
+                      ("fixed_point", "?")], align=True)
+
+
+def run_settings(until: int, total: int, max_events: int, max_cycle: int, acc_tol: float, fast_forward: bool,
+                 fixed_point: bool = False, fp_tol: float = 0.0, fp_max_iter: int = 1) -> np.ndarray:
+    """The :data:`RUN_DTYPE` record (an array of one) of a run."""
+    run = np.zeros(1, dtype=RUN_DTYPE)
+    run[0] = (until, total, max_events, max_cycle, acc_tol, fp_tol, fp_max_iter, fast_forward, fixed_point)
+    return run
+
+
 #: One trajectory: inputs (set before the run), working state, outcome.  The working records
 #: (this and HIST_DTYPE) are aligned, so that no field straddles a cache line; the records that
 #: leave the kernel as results (arcs, events, samples, crossings) are packed, with no padding

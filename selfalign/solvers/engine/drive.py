@@ -7,7 +7,9 @@ from __future__ import annotations
 
 import math
 
-from numba import literally
+from numba import literally, types
+from numba.core import errors
+from numba.extending import overload
 
 from ...model import friction as F
 from .. import records as R
@@ -260,46 +262,106 @@ def finish_run(s, code, reason, until):
         s.n_end, s.tau_end = s.n, s.tau0
 
 
-@jit
-def drive(s, method, row, until, total, max_events, max_cycle, acc_tol, bnd, cross, record, fast_forward, hist,
-          scratch, arcs, events, samples, sample_steps, fixed_point, fp_tol, fp_max_iter):
-    """Run member ``s`` to its outcome (module docstring), recording into the buffers if asked.
+def begin(method, s, row, scratch):
+    """Set up member ``s`` for the stepper of ``method`` at its start phase: (the table's y'' at the
+    start, the stepper's scratch tuple).  Compiled, specialised on the method (:func:`_begin`)."""
+    if method == R.EXACT_SMOOTH:
+        return _begin_smooth(s, row, scratch)
+    if method == R.EXACT_PIECEWISE:
+        return _begin_piecewise(s, row, scratch)
+    return _begin_none(s, row, scratch)
 
-    ``hist`` is scratch space for ``max_cycle`` period records, ``scratch`` that of the
-    smooth stepper's grid (:func:`grid_scratch`); ``fast_forward`` allows
-    skipping bit-exact repeating periods (off while recording).  ``record`` is a
-    compile-time constant (two specialisations), so a run that records nothing carries no
+
+@jit
+def _begin_piecewise(s, row, scratch):
+    s.piece0 = piece_at(row, s.tau0)
+    return row[R.DATA + 2 + int(row[R.DATA]) + s.piece0], (scratch[0, :0], scratch[1, :0], scratch[2, :0])
+
+
+@jit
+def _begin_smooth(s, row, scratch):
+    grid, g_yd, g_ydd = smooth_grid(row, s.tau0, scratch)
+    return g_ydd[0], (grid, g_yd, g_ydd)
+
+
+@jit
+def _begin_none(s, row, scratch):
+    return 0.0, (scratch[0, :0], scratch[1, :0], scratch[2, :0])
+
+
+def step(method, s, row, run, bnd, cross, record, buffers, scratch):
+    """Advance member ``s`` one period with the stepper of ``method`` (the dispatch of the stepper
+    contract, :mod:`selfalign.solvers.engine`).  Compiled, specialised on the method (:func:`_step`),
+    so that a run compiles only its own stepper."""
+    if method == R.EXACT_PIECEWISE:
+        return period_piecewise(s, row, run, bnd, cross, record, buffers, scratch)
+    if method == R.EXACT_SMOOTH:
+        if s.zone:
+            return period_jerk_zone(s, row, run, bnd, cross, record, buffers, scratch)
+        return period_smooth(s, row, run, bnd, cross, record, buffers, scratch)
+    return period_moreau(s, row, run, bnd, cross, record, buffers, scratch)
+
+
+def _method_code(method) -> int:
+    """The literal method code a specialisation is compiled for (the callers ask ``literally``)."""
+    if not isinstance(method, types.IntegerLiteral):
+        raise errors.TypingError("the engine's method code must be a compile-time constant (literally)")
+    return method.literal_value
+
+
+@overload(begin, inline="always")
+def _begin(method, s, row, scratch):
+    code = _method_code(method)
+    if code == R.EXACT_SMOOTH:
+        return lambda method, s, row, scratch: _begin_smooth(s, row, scratch)
+    if code == R.EXACT_PIECEWISE:
+        return lambda method, s, row, scratch: _begin_piecewise(s, row, scratch)
+    return lambda method, s, row, scratch: _begin_none(s, row, scratch)
+
+
+@overload(step, inline="always")
+def _step(method, s, row, run, bnd, cross, record, buffers, scratch):
+    code = _method_code(method)
+    if code == R.EXACT_PIECEWISE:
+        return lambda method, s, row, run, bnd, cross, record, buffers, scratch: period_piecewise(
+            s, row, run, bnd, cross, record, buffers, scratch)
+    if code == R.EXACT_SMOOTH:
+        def smooth(method, s, row, run, bnd, cross, record, buffers, scratch):
+            if s.zone:
+                return period_jerk_zone(s, row, run, bnd, cross, record, buffers, scratch)
+            return period_smooth(s, row, run, bnd, cross, record, buffers, scratch)
+        return smooth
+    return lambda method, s, row, run, bnd, cross, record, buffers, scratch: period_moreau(
+        s, row, run, bnd, cross, record, buffers, scratch)
+
+
+@jit
+def drive(s, method, row, run, bnd, cross, record, hist, buffers, scratch):
+    """Run member ``s`` to its outcome (:mod:`selfalign.solvers.engine`), recording into ``buffers``
+    (arcs, events, samples, sample steps) if asked.
+
+    ``run``: the run settings (:data:`~selfalign.solvers.records.RUN_DTYPE`); ``hist``: scratch
+    space for ``run.max_cycle`` period records; ``scratch``: that of the smooth stepper's grid
+    (:func:`grid_scratch`).  Repeating periods are skipped only if ``run.fast_forward`` and
+    nothing is recorded.  ``method`` and ``record`` are compile-time constants, so each run
+    compiles and carries only its own stepper, and a run that records nothing carries no
     recording code in its loops.
     """
+    literally(method)
     literally(record)
-    prepare_member(s, row, method, acc_tol)
+    until, total, max_cycle = run.until, run.total, run.max_cycle
+    prepare_member(s, row, method, run.acc_tol)
     swing = row[R.SWING]
-    if method == R.EXACT_SMOOTH:
-        grid, g_yd, g_ydd = smooth_grid(row, s.tau0, scratch)
-        a0 = g_ydd[0]
-    else:
-        grid, g_yd, g_ydd = scratch[0, :0], scratch[1, :0], scratch[2, :0]
-        a0 = 0.0
-        if method == R.EXACT_PIECEWISE:
-            s.piece0 = piece_at(row, s.tau0)
-            a0 = row[R.DATA + 2 + int(row[R.DATA]) + s.piece0]
+    a0, work = begin(method, s, row, scratch)
     count = 0
     reason = -1
     moreau = method == R.MOREAU
     code = start_mode(s, a0, until, moreau, (row[R.DATA + 1], row[R.DATA + 2]) if moreau else (0.0, 0.0))
     record_crossings(s, bnd, cross, ARC_STICK, 0.0, s.xi, s.v, 0.0, s.xi, s.v, 0, s.tau0, 0.0)
+    fast_forward = run.fast_forward and not record
     while code == DONE and s.n < total:
         v0, mode0, xi0, path0 = s.v, s.mode, s.xi, s.path
-        if method == R.EXACT_PIECEWISE:
-            code = period_piecewise(s, row, until, max_events, bnd, cross, record, arcs, events)
-        elif method == R.EXACT_SMOOTH and s.zone:
-            code = period_jerk_zone(s, row, until, max_events, bnd, cross, record, arcs, events)
-        elif method == R.EXACT_SMOOTH:
-            code = period_smooth(s, row, until, max_events, bnd, cross, record, arcs, events,
-                                                grid, g_yd, g_ydd)
-        else:
-            code = period_moreau(s, row, until, bnd, cross, record, samples, sample_steps,
-                                           fixed_point, fp_tol, fp_max_iter)
+        code = step(method, s, row, run, bnd, cross, record, buffers, work)
         if not (math.isfinite(s.xi) and math.isfinite(s.v)):
             s.xi, s.v, s.mode = xi0, v0, mode0
             if code == DONE:
@@ -309,40 +371,42 @@ def drive(s, method, row, until, total, max_events, max_cycle, acc_tol, bnd, cro
             break
         if code != DONE:
             break
-        reason, count, horizon = after_period(s, hist, count, max_cycle, swing, until, total,
-                                               fast_forward and not record, v0, mode0, xi0, path0)
+        reason, count, horizon = after_period(s, hist, count, max_cycle, swing, until, total, fast_forward, v0, mode0,
+                                              xi0, path0)
         if reason >= 0 or horizon:
             break
     finish_run(s, code, reason, until)
-    if record and method == R.MOREAU:
-        record_sample(samples, s, s.n_end, s.tau_end, s.xi, s.v, s.mode)
+    if record and moreau:
+        record_sample(buffers[2], s, s.n_end, s.tau_end, s.xi, s.v, s.mode)
 
 
 @jit
-def run_members(members, method, table, until, total, max_events, max_cycle, acc_tol, bnd, cross, fast_forward,
-                fixed_point, fp_tol, fp_max_iter, hist, arcs, events, samples, steps):
+def run_members(members, method, table, run, bnd, cross, hist, arcs, events, samples, steps):
     """Drive every member (no recording): the batch, and one trajectory without series.
+    ``run``: the run settings (one :data:`~selfalign.solvers.records.RUN_DTYPE` record);
     ``hist`` is scratch space (HIST_DTYPE, max_cycle records); the recording buffers are
     passed (empty) only so that the same :func:`drive` serves both entry points.  Every
     record array is allocated by the caller (numpy record arrays, so that the kernel also
     runs uncompiled, NUMBA_DISABLE_JIT=1)."""
+    literally(method)
     scratch = grid_scratch(method, table)
     table, bnd, cross, hist, arcs, events, samples, steps = borrowed_all(table, bnd, cross, hist, arcs, events,
-                                                                          samples, steps)
+                                                                         samples, steps)
+    settings = run[0]
     for i in range(members.shape[0]):
         s = members[i]
-        drive(s, method, table[s.profile], until, total, max_events, max_cycle, acc_tol, bnd[i], cross[i], False,
-              fast_forward, hist, scratch, arcs, events, samples, steps, fixed_point, fp_tol, fp_max_iter)
+        drive(s, method, table[s.profile], settings, bnd[i], cross[i], False, hist, (arcs, events, samples, steps),
+              scratch)
 
 
 @jit
-def run_recorded(members, method, table, until, total, max_events, max_cycle, acc_tol, bnd, cross,
-                 fixed_point, fp_tol, fp_max_iter, hist, arcs, events, samples, sample_steps):
+def run_recorded(members, method, table, run, bnd, cross, hist, arcs, events, samples, sample_steps):
     """Drive member 0 recording its arcs and events (exact) or samples (Moreau) into the
     buffers; the member's n_arcs, n_events, n_samples say how many there were (a buffer
     that was too small holds the first ones only: run again with larger buffers)."""
+    literally(method)
     table, bnd, cross, hist, arcs, events, samples, sample_steps = borrowed_all(table, bnd, cross, hist, arcs, events,
-                                                                                 samples, sample_steps)
+                                                                                samples, sample_steps)
     s = members[0]
-    drive(s, method, table[s.profile], until, total, max_events, max_cycle, acc_tol, bnd[0], cross[0], True, False,
-          hist, grid_scratch(method, table), arcs, events, samples, sample_steps, fixed_point, fp_tol, fp_max_iter)
+    drive(s, method, table[s.profile], run[0], bnd[0], cross[0], True, hist, (arcs, events, samples, sample_steps),
+          grid_scratch(method, table))

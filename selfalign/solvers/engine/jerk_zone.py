@@ -179,7 +179,7 @@ def _jerk_arc_end(kind, om, sigma, v, acc0, jerk, gap, bounded, rem, xtol, rtol)
 
 
 @jit
-def period_jerk_zone(s, row, until, max_events, bnd, cross, record, arcs, events):
+def period_jerk_zone(s, row, run, bnd, cross, record, buffers, scratch):
     """Advance member ``s`` one period on a piecewise-linear-y'' profile on a stop zone.
 
     Within a piece y'' = a + j t, so every slip arc is an arc of :mod:`selfalign.model.arcs`
@@ -190,6 +190,8 @@ def period_jerk_zone(s, row, until, max_events, bnd, cross, record, arcs, events
     |error| <= 2 eps dt + 4 eps t.  Piece breaks are no events (y'' is continuous at a
     finite-jerk profile's breaks; a jump is decided at once).  Slip arcs are recorded with their
     kind and omega and a NaN table acceleration."""
+    until, max_events = run.until, run.max_events
+    arcs, events = buffers[0], buffers[1]
     dt = row[R.DT]
     m = -int(row[R.DATA])
     b0 = R.DATA + 1

@@ -100,8 +100,10 @@ def _harmonic_reaches(xi, v, acc0, b1, om, xb):
 
 
 @inlined
-def period_piecewise(s, row, until, max_events, bnd, cross, record, arcs, events):
+def period_piecewise(s, row, run, bnd, cross, record, buffers, scratch):
     """Advance member ``s`` from the period boundary (n, tau0) to (n + 1, tau0)."""
+    until, max_events = run.until, run.max_events
+    arcs, events = buffers[0], buffers[1]
     dt = row[R.DT]
     m = int(row[R.DATA])
     b0 = R.DATA + 1

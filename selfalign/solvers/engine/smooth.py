@@ -252,8 +252,11 @@ def smooth_grid(row, tau0, scratch):
 
 
 @jit
-def period_smooth(s, row, until, max_events, bnd, cross, record, arcs, events, grid, g_yd, g_ydd):
+def period_smooth(s, row, run, bnd, cross, record, buffers, scratch):
     """Advance member ``s`` one period on a smooth (Fourier or piecewise-linear-y'') profile, uniform surface."""
+    until, max_events = run.until, run.max_events
+    arcs, events = buffers[0], buffers[1]
+    grid, g_yd, g_ydd = scratch
     dt = row[R.DT]
     tau0 = s.tau0
     xtol = 2.0 * EPS * dt

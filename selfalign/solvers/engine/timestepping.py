@@ -103,8 +103,10 @@ def _richer_friction_step(s, v, v_free, h_mu, fixed_point, fp_tol, fp_max_iter):
 
 
 @jit
-def period_moreau(s, row, until, bnd, cross, record, samples, sample_steps, fixed_point, fp_tol, fp_max_iter):
+def period_moreau(s, row, run, bnd, cross, record, buffers, scratch):
     """Advance member ``s`` one period with N Moreau steps (:mod:`selfalign.solvers.moreau`)."""
+    until, fixed_point, fp_tol, fp_max_iter = run.until, run.fixed_point, run.fp_tol, run.fp_max_iter
+    samples, sample_steps = buffers[2], buffers[3]
     dt = row[R.DT]
     nsteps = int(row[R.DATA])
     h = row[R.DATA + 1]
