@@ -58,7 +58,7 @@ class _Prepared:
         self.run = _run_settings(R.UNTIL_CODES[scene.until], scene.horizon_periods, o.get("max_events", 2**62),
                                  MAX_CYCLE, o["accumulation_tol"], True, o.get("iteration") == "fixed_point",
                                  o.get("fp_tol", 0.0), o.get("fp_max_iter", 1))
-        self.args = (self.code, self.table, self.run, _NO_BOUNDARIES, _no_crossings())
+        self.args = (self.table, self.run, _NO_BOUNDARIES, _no_crossings())
         self.steps = (moreau.sample_steps(int(self.row[R.DATA]), scene.record.samples_per_period)
                       if self.code == R.MOREAU and scene.record.dense else _NO_STEPS)
 
@@ -99,14 +99,14 @@ def simulate(scene: Scene, method: str | None = None, **options) -> Trajectory:
     record = scene.record
     arcs = events = samples = None
     if record.dense or record.events or record.arcs:
-        arcs, events, samples = _recorded_run(K, members, (members,) + prep.args, prep.steps)
+        arcs, events, samples = _recorded_run(K.RECORDED_RUNS[prep.code], members, (members,) + prep.args, prep.steps)
     else:
-        call(K.run_members, members, *prep.args, _hist(), *_no_recording())
+        call(K.MEMBER_RUNS[prep.code], members, *prep.args, _hist(), *_no_recording())
     return trajectory(scene, method, prep.options, prep.code, prep.row, members[0], prep.origin, arcs, events,
                        samples, time.process_time() - cpu0)
 
 
-def _recorded_run(K, members, args, steps):
+def _recorded_run(entry, members, args, steps):
     """Run with recording; if a buffer was too small, run again (deterministic) with the
     counted sizes.  Returns the arcs, events and samples recorded."""
     start = members.copy()
@@ -114,7 +114,7 @@ def _recorded_run(K, members, args, steps):
     while True:
         buffers = (_records(R.ARC_DTYPE, sizes[0]), _records(R.EVENT_DTYPE, sizes[1]),
                    _records(R.SAMPLE_DTYPE, sizes[2]))
-        call(K.run_recorded, *args, _hist(), *buffers, steps)
+        call(entry, *args, _hist(), *buffers, steps)
         rec = members[0]
         counts = (int(rec["n_arcs"]), int(rec["n_events"]), int(rec["n_samples"]))
         if all(c <= size for c, size in zip(counts, sizes)):
@@ -321,7 +321,7 @@ def simulate_batch(profiles, x0, v0=0.0, phase=0.0, *, profile_index=None, surfa
     run = _run_settings(until_code, total, options.get("max_events", 2**62), int(max_cycle),
                         options["accumulation_tol"], bool(fast_forward), options.get("iteration") == "fixed_point",
                         options.get("fp_tol", 0.0), options.get("fp_max_iter", 1))
-    call(K.run_members, members, table.code, table.rows, run, relative, crossings, _hist(int(max_cycle)),
+    call(K.MEMBER_RUNS[table.code], members, table.rows, run, relative, crossings, _hist(int(max_cycle)),
          *_no_recording())
     if method == "moreau":
         options = {**options, "h": float(table.rows[0, R.DATA + 1])}

@@ -7,8 +7,12 @@ from __future__ import annotations
 from numba import njit, types
 from numba.extending import intrinsic, overload
 
-jit = njit(cache=True, error_model="numpy", nogil=True)
-inlined = njit(cache=True, error_model="numpy", nogil=True, inline="always")
+#: Options of every compiled function of the engine (the implementations of its overloads too):
+#: numpy's error model (a division by zero gives inf or nan, as in the model's formulas, with no
+#: check and no exception path in the arithmetic).
+OPTIONS = {"error_model": "numpy"}
+jit = njit(cache=True, nogil=True, **OPTIONS)
+inlined = njit(cache=True, nogil=True, inline="always", **OPTIONS)
 
 
 def borrowed(array):

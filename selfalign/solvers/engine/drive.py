@@ -38,7 +38,7 @@ from .codes import (
     STOP_REST,
     STOP_STALL,
 )
-from .compiled import borrowed_all, inlined, jit
+from .compiled import OPTIONS, borrowed_all, inlined, jit
 from .field import friction_at, holds_for_good, record_crossings
 from .jerk_zone import period_jerk_zone
 from .piecewise import period_piecewise, piece_at
@@ -309,7 +309,7 @@ def _method_code(method) -> int:
     return method.literal_value
 
 
-@overload(begin, inline="always")
+@overload(begin, inline="always", jit_options=OPTIONS)
 def _begin(method, s, row, scratch):
     code = _method_code(method)
     if code == R.EXACT_SMOOTH:
@@ -319,7 +319,7 @@ def _begin(method, s, row, scratch):
     return lambda method, s, row, scratch: _begin_none(s, row, scratch)
 
 
-@overload(step, inline="always")
+@overload(step, inline="always", jit_options=OPTIONS)
 def _step(method, s, row, run, bnd, cross, record, buffers, scratch):
     code = _method_code(method)
     if code == R.EXACT_PIECEWISE:

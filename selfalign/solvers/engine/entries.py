@@ -1,12 +1,62 @@
 """The engine's entry points, the functions Python calls (:func:`selfalign.solvers.jit.kernel`
-returns this module): the driver for batches and recorded runs, the decisions a Python stepper
-calls, and dense output."""
+returns this module): the driver for batches and recorded runs, one entry point per method
+(:data:`MEMBER_RUNS`, :data:`RECORDED_RUNS`, so that a call from Python reaches compiled code
+without specialising on the method at every call), the decisions a Python stepper calls, and
+dense output.
+
+A new stepper registers here: its method code in the two tables, with one entry point each.
+"""
 
 from __future__ import annotations
 
+from ..records import EXACT_PIECEWISE, EXACT_SMOOTH, MOREAU
+from .compiled import jit
 from .dense import modes, sample_arcs
 from .drive import run_members, run_recorded
 from .python_stepper import after_period_entry, begin_entry, finish_entry, moved_entry, stick_entry
 
-__all__ = ["after_period_entry", "begin_entry", "finish_entry", "modes", "moved_entry", "run_members", "run_recorded",
-           "sample_arcs", "stick_entry"]
+
+@jit
+def members_piecewise(members, table, run, bnd, cross, hist, arcs, events, samples, steps):
+    """:func:`~.drive.run_members` with the exact stepper on piecewise-constant profiles."""
+    run_members(members, EXACT_PIECEWISE, table, run, bnd, cross, hist, arcs, events, samples, steps)
+
+
+@jit
+def members_smooth(members, table, run, bnd, cross, hist, arcs, events, samples, steps):
+    """:func:`~.drive.run_members` with the exact stepper on smooth profiles."""
+    run_members(members, EXACT_SMOOTH, table, run, bnd, cross, hist, arcs, events, samples, steps)
+
+
+@jit
+def members_moreau(members, table, run, bnd, cross, hist, arcs, events, samples, steps):
+    """:func:`~.drive.run_members` with Moreau time-stepping."""
+    run_members(members, MOREAU, table, run, bnd, cross, hist, arcs, events, samples, steps)
+
+
+@jit
+def recorded_piecewise(members, table, run, bnd, cross, hist, arcs, events, samples, steps):
+    """:func:`~.drive.run_recorded` with the exact stepper on piecewise-constant profiles."""
+    run_recorded(members, EXACT_PIECEWISE, table, run, bnd, cross, hist, arcs, events, samples, steps)
+
+
+@jit
+def recorded_smooth(members, table, run, bnd, cross, hist, arcs, events, samples, steps):
+    """:func:`~.drive.run_recorded` with the exact stepper on smooth profiles."""
+    run_recorded(members, EXACT_SMOOTH, table, run, bnd, cross, hist, arcs, events, samples, steps)
+
+
+@jit
+def recorded_moreau(members, table, run, bnd, cross, hist, arcs, events, samples, steps):
+    """:func:`~.drive.run_recorded` with Moreau time-stepping."""
+    run_recorded(members, MOREAU, table, run, bnd, cross, hist, arcs, events, samples, steps)
+
+
+#: Method code -> the entry point that drives every member without recording.
+MEMBER_RUNS = {EXACT_PIECEWISE: members_piecewise, EXACT_SMOOTH: members_smooth, MOREAU: members_moreau}
+#: Method code -> the entry point that drives member 0 recording it.
+RECORDED_RUNS = {EXACT_PIECEWISE: recorded_piecewise, EXACT_SMOOTH: recorded_smooth,
+                 MOREAU: recorded_moreau}
+
+__all__ = ["MEMBER_RUNS", "RECORDED_RUNS", "after_period_entry", "begin_entry", "finish_entry", "modes",
+           "moved_entry", "sample_arcs", "stick_entry"]
