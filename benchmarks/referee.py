@@ -345,3 +345,125 @@ def _slip_event(model, arc, region, sigma, S, tol):
             if what:
                 return s_end, what
     return S, "end"
+
+
+class Fourier:
+    """y(t) = sum_k a_k cos(w_k t) + b_k sin(w_k t), w_k = 2 pi k / dt (Sect. 4.4.2), and its derivatives."""
+
+    def __init__(self, dt, cos_coeffs, sin_coeffs):
+        with mp.workdps(DPS):
+            self.dt = _mpf(dt)
+            self.terms = [(_mpf(a), _mpf(b), 2 * mp.pi * (k + 1) / self.dt)
+                          for k, (a, b) in enumerate(zip(cos_coeffs, sin_coeffs))]
+            #: a bound of |y'''|, the Lipschitz constant of y'' and of the relative acceleration
+            self.m3 = sum(mp.sqrt(a * a + b * b) * w**3 for a, b, w in self.terms)
+
+    def d(self, t, n):
+        """d^n y / dt^n at t."""
+        total = mp.mpf(0)
+        for a, b, w in self.terms:
+            c, s = mp.cos(w * t), mp.sin(w * t)
+            even, odd = a * c + b * s, b * c - a * s
+            total += w**n * (even, odd, -even, -odd)[n % 4]
+        return total
+
+
+def _first(lo, hi, test, tol):
+    """Left-first search of [lo, hi] in halves: ``test(lo, hi)`` returns a time (found), None (nothing in
+    this interval) or "split"; intervals shorter than ``tol`` are tested with split treated as nothing."""
+    stack = [(lo, hi)]
+    while stack:
+        a, b = stack.pop()
+        verdict = test(a, b)
+        if verdict == "split":
+            if b - a < tol:
+                continue
+            mid = (a + b) / 2
+            stack.append((mid, b))
+            stack.append((a, mid))
+        elif verdict is not None:
+            return verdict
+    return None
+
+
+def simulate_fourier(profile: Fourier, x0, v0, phase, periods, ratio=1.0, max_events=100_000, keep_log=False):
+    """End state after ``periods`` periods on a uniform surface (mu = 1) under a Fourier profile.
+
+    Slip sigma from (t0, x0, v0): v = v0 - (y'(t) - y'(t0)) - sigma (t - t0) and x in closed form.  Events
+    without sampling: the relative acceleration A = -y'' - sigma has |A'| <= m3 (:attr:`Fourier.m3`), so
+    an interval whose midpoint value exceeds m3 times its half-length has no zero of A and v is monotone
+    on it; such intervals, taken left to right (others halved), bracket the first stop exactly.  A stick
+    ends where |y''| first exceeds r, found the same way (|y''| at the midpoint plus m3 times the
+    half-length bounds it on the interval).  Tangencies within 1e-45 of the period count as ties.
+    """
+    with mp.workdps(DPS):
+        dt, r, m3 = profile.dt, _mpf(ratio), profile.m3
+        tol = ROOT_TOL * dt
+        t = _mpf(float(phase) * float(dt))
+        t_end = t + int(periods) * dt
+        x, v = _mpf(x0), _mpf(v0)
+        sigma = _sign(v)
+        log, events = [], 0
+        while t < t_end:
+            events += 1
+            if events > max_events:
+                raise RuntimeError(f"referee: more than {max_events} events")
+            if sigma == 0:
+                def test(a, b):
+                    if abs(profile.d(a, 2)) > r:
+                        return a
+                    if abs(profile.d((a + b) / 2, 2)) + m3 * (b - a) / 2 <= r:
+                        return None
+                    return "split"
+                ts = _first(t, t_end, test, tol)
+                if ts is None:
+                    t = t_end
+                    break
+                slip = -_sign(profile.d(ts, 2))
+                probe = min(DELTA, t_end - ts)
+                yd0 = profile.d(ts, 1)
+                vp = -(profile.d(ts + probe, 1) - yd0) - slip * probe
+                t = ts + probe
+                if slip * vp > 0:                   # the slip develops (else: stays stuck, time moves on)
+                    x += -(profile.d(t, 0) - profile.d(ts, 0) - yd0 * probe) - slip * probe**2 / 2
+                    v, sigma = vp, slip
+                    if keep_log:
+                        log.append(("slip", 0, ts, x, slip))
+                continue
+            t0, x_0, v_0, y0, yd0 = t, x, v, profile.d(t, 0), profile.d(t, 1)
+
+            def vel(s):
+                return v_0 - (profile.d(s, 1) - yd0) - sigma * (s - t0)
+
+            def test(a, b, sigma=sigma):
+                if abs(-profile.d((a + b) / 2, 2) - sigma) <= m3 * (b - a) / 2:
+                    return "split"
+                vb = vel(b)
+                if sigma * vb > 0:
+                    return None
+                va = vel(a)
+                return a if sigma * va <= 0 else _root(vel, a, b, va, vb, tol)
+
+            ts = _first(t0, t_end, test, tol)
+            t = t_end if ts is None else ts
+            s = t - t0
+            x = x_0 + v_0 * s - (profile.d(t, 0) - y0 - yd0 * s) - sigma * s * s / 2
+            v = vel(t)
+            if ts is None:
+                break
+            v = mp.mpf(0)
+            ydd = profile.d(t, 2)
+            if abs(ydd) <= r:
+                sigma = 0
+                if keep_log:
+                    log.append(("stick", 0, t, x))
+            else:
+                sigma = -_sign(ydd)
+                if keep_log:
+                    log.append(("reverse", 0, t, x))
+                # the reversed slip starts from rest: let it develop for DELTA before searching its stop
+                yd0 = profile.d(t, 1)
+                x += -(profile.d(t + DELTA, 0) - profile.d(t, 0) - yd0 * DELTA) - sigma * DELTA**2 / 2
+                v = -(profile.d(t + DELTA, 1) - yd0) - sigma * DELTA
+                t = t + DELTA
+        return Result(x, v, events, log)
