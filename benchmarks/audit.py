@@ -323,10 +323,7 @@ def _failed(r):
 
 
 def compare(spec, a, b, pair, sc):
-    """'agree', 'disagree', 'nan', 'error' or 'hang' for method results a, b (dicts or None)."""
-    for r in (a, b):
-        if r.get("status") == "hang":
-            return "hang"
+    """'agree', 'disagree', 'nan' or 'error' for the method results a, b (hangs are the watchdog's)."""
     for r in (a, b):
         f = _failed(r)
         if f:
@@ -364,8 +361,6 @@ def _on_edge(spec):
 
 def classify(spec, pair, outcome, a, b):
     """(class, detail) of a pair that does not agree (module docstring)."""
-    if outcome == "hang":
-        return "unexplained", "hang"
     sc = scales(spec)
     ref_name, other_name = pair.split("-")
     if outcome == "error" and "ivp" in pair:
@@ -429,9 +424,12 @@ def _worker(conn, seed, ivp_every, referee_every):
         for spec in specs:
             try:
                 res = scene_results(spec, batch, ivp_every, referee_every)
+                rows = evaluate(spec, res)        # classification reruns methods: inside the watchdog too
             except Exception:
-                res = {"exact": _result(status="exception", message=traceback.format_exc()[-300:])}
-            conn.send(("scene", (spec["index"], res)))
+                res = {"audit": _result(status="exception", message=traceback.format_exc()[-300:])}
+                rows = [{"pair": "scene", "outcome": "error", "class": "unexplained",
+                         "detail": res["audit"]["message"]}]
+            conn.send(("scene", (spec["index"], res, rows)))
 
 
 class Pool:
@@ -481,9 +479,9 @@ class Pool:
                         w["deadline"] = time.monotonic() + self.timeout
                         continue
                     if kind == "scene":
-                        index, res = payload
+                        index, res, rows = payload
                         w["pending"].remove(index)
-                        on_result(index, res)
+                        on_result(index, res, rows)
                         w["deadline"] = time.monotonic() + self.timeout
                         if not w["pending"]:
                             w["task"] = None
@@ -497,9 +495,9 @@ class Pool:
                         self.batch_hangs += 1
                         queue.insert(0, (pending, False))
                         continue
-                    on_result(pending[0], {"hang": {"status": "hang", "x": math.nan, "v": math.nan,
-                                                    "message": f"no result within {self.timeout} s",
-                                                    "seconds": self.timeout}})
+                    message = f"no result within {self.timeout:g} s (worker killed)"
+                    on_result(pending[0], {"hang": _result(status="hang", message=message, seconds=self.timeout)},
+                              [{"pair": "scene", "outcome": "hang", "class": "unexplained", "detail": message}])
                     if pending[1:]:
                         queue.insert(0, (pending[1:], True))
 
@@ -517,13 +515,9 @@ class Pool:
 # --------------------------------------------------------------------------------------------
 # the audit
 
-def evaluate(seed, index, res):
+def evaluate(spec, res):
     """Rows (dicts) of one scene: one per pair, classified where they do not agree."""
-    spec = scene_spec(seed, index)
     rows = []
-    if "hang" in res:
-        rows.append({"pair": "scene", "outcome": "hang", "class": "unexplained", "detail": res["hang"]["message"]})
-        return spec, rows
     for pair, outcome, a, b in pair_results(spec, res):
         row = {"pair": pair, "outcome": outcome, "class": "", "detail": "",
                "x_a": a["x"], "x_b": b["x"], "v_a": a["v"], "v_b": b["v"], "status_a": a["status"],
@@ -531,7 +525,7 @@ def evaluate(seed, index, res):
         if outcome != "agree":
             row["class"], row["detail"] = classify(spec, pair, outcome, a, b)
         rows.append(row)
-    return spec, rows
+    return rows
 
 
 def describe(spec) -> dict:
@@ -554,8 +548,8 @@ def audit(n, seed, jobs, out, ivp_every=1, referee_every=5, timeout=30.0, start=
     t0 = time.monotonic()
     done = [0, t0]
 
-    def on_result(index, res):
-        spec, rows = evaluate(seed, index, res)
+    def on_result(index, res, rows):
+        spec = scene_spec(seed, index)
         for m, r in res.items():
             seconds[m] += r.get("seconds", 0.0)
             runs[m] += 1
@@ -597,7 +591,7 @@ def audit(n, seed, jobs, out, ivp_every=1, referee_every=5, timeout=30.0, start=
         "seconds_per_run": {m: seconds[m] / runs[m] for m in runs},
         "outcomes": {p: dict(c) for p, c in counts.items() if c},
         "classes": [{"pair": p, "outcome": o, "class": c, "count": v} for (p, o, c), v in sorted(classes.items())],
-        "hangs": counts["scene"]["hang"],
+        "hangs": counts["scene"]["hang"], "batch_steps_retried_after_timeout": pool.batch_hangs,
         "nan": sum(c["nan"] for c in counts.values()),
         "unexplained": unexplained,
         "moreau_ratio_max": float(ratio.max()), "moreau_ratio_max_index": worst,
@@ -628,7 +622,7 @@ def verbose(seed, index, ivp_every=1, referee_every=1):
     if referee_supported(spec):
         for event in run_referee(spec, keep_log=True)["log"]:
             print("referee event:", event[0], event[1], referee.mp.nstr(event[2], 17), referee.mp.nstr(event[3], 17))
-    for row in evaluate(seed, index, res)[1]:
+    for row in evaluate(spec, res):
         print(f"{row['pair']:14s} {row['outcome']:9s} {row['class']} {row['detail']}")
 
 
