@@ -33,7 +33,10 @@ Tolerances (both for the end position x and velocity v after the horizon):
   reversals (a stop and a start in one step).  Zone crossings change mu continuously (eq. 9), which
   costs O(h^2).  Errors grow beyond this only where the solution itself depends on the state more
   than linearly (a graze, a stick at the friction limit, the zone's hyperbolic arcs): the tie test
-  below.  The summary reports the largest |dx| / (A h dt P) measured (``moreau_ratio_max``).
+  below.  The summary reports the largest |dx| / (A h dt P) measured (``moreau_ratio_max``): 0.77
+  on 12,000 scenes (seeds 1 and 2; 99th percentile 0.08), on a narrow steep zone (w = 0.003,
+  c_mu = 15.6) where Moreau's error is not monotone in h (1.0e-4, 8.4e-5, 1.2e-4, 2.5e-5 at 1e4,
+  2e4, 1e5, 5e5 steps per period; the referee agrees with exact to 3e-15).
 
 Outcome of each method pair per scene: ``agree``, ``disagree`` (beyond the tolerance), ``nan``
 (a non-finite end state), ``error`` (status ERROR or an exception; the message is kept), ``hang``
