@@ -56,8 +56,6 @@ class Table:
 
     def __init__(self, dt, breaks, accels, jerks):
         self.dt, self.breaks, self.accels, self.jerks = dt, breaks, accels, jerks
-        self.max_acc = max(max(abs(a), abs(a + j * (breaks[k + 1] - breaks[k])))
-                           for k, (a, j) in enumerate(zip(accels, jerks)))
 
 
 def _mpf(value):
@@ -222,8 +220,9 @@ class Result:
 
 
 def simulate(table: Table, model: Model, x0, v0, phase, periods, max_events=100_000, keep_log=False):
-    """End state (x, v) after ``periods`` periods from (x0, v0) at time phase * dt: a :class:`Result`
-    with ``xi`` the end position (absolute x on a uniform surface, else x - x_mu added back: ``x``)."""
+    """End state after ``periods`` periods from (x0, v0) at time phase * dt: a :class:`Result` with the
+    absolute end position ``xi``, the velocity ``v``, the number of arcs and, with ``keep_log``, the
+    events (kind, period, time in the period, position relative to x_mu)."""
     with mp.workdps(DPS):
         dt = table.dt
         tol = ROOT_TOL * dt
