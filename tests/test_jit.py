@@ -115,3 +115,37 @@ def test_cli_announces_the_first_compile_on_stderr(tmp_path):
     assert cold.returncode == warm.returncode == 0, cold.stderr + warm.stderr
     assert cold.stderr.startswith("selfalign: compiling the event kernel"), cold.stderr
     assert "compiling" not in warm.stderr and cold.stdout == warm.stdout
+
+
+def test_profile_rows_are_read_through_the_layout():
+    """The engine reads a profile row only through the layout functions of
+    :mod:`selfalign.solvers.records` (no column offsets computed in the engine), and those functions
+    read back what the row builders wrote: break i, piece i's levels, jerk, y', y and end level of a
+    piecewise-linear row, a Fourier row's coefficients, a Moreau row's step and impulses."""
+    import re
+
+    import numpy as np
+
+    from selfalign.solvers import records as R
+
+    engine = sorted((PACKAGE / "solvers" / "engine").glob("*.py"))
+    assert len(engine) > 5
+    inline = [f"{p.name}:{i + 1}" for p in engine for i, line in enumerate(p.read_text().splitlines())
+              if re.search(r"\bDATA\b|row\[[a-z]\w*0 \+", line)]
+    assert not inline, f"column offsets computed in the engine: {inline}"
+    head = R.profile_header(2.0, 3.0, 4.0, 5.0)
+    m = 3
+    breaks, levels, jerks = np.arange(m + 1) * 0.5, np.arange(m) + 10.0, np.arange(m) + 20.0
+    velocities, positions, ends = np.arange(m) + 30.0, np.arange(m) + 40.0, np.arange(m) + 50.0
+    row = R.linear_row(head, breaks, levels, jerks, velocities, positions, ends)
+    assert R.data_size(row) == -m and row[R.DT] == 2.0 and row[R.REST_ACC] == 5.0
+    for i in range(m):
+        assert row[R.col_break(i)] == breaks[i] and row[R.col_level(m, i)] == levels[i]
+        assert (row[R.col_jerk(m, i)], row[R.col_start_velocity(m, i)], row[R.col_start_position(m, i)],
+                row[R.col_end_level(m, i)]) == (jerks[i], velocities[i], positions[i], ends[i])
+    assert row[R.col_break(m)] == breaks[m] and row.size == R.col_end_level(m, m)
+    fourier = R.fourier_row(head, [1.0, 2.0], [3.0, 4.0], [5.0, 6.0])
+    assert [fourier[R.col_fourier(2, j, 1)] for j in range(3)] == [2.0, 4.0, 6.0]
+    moreau = R.moreau_row(head, 0.25, np.array([0.5, -0.75]))
+    assert (R.data_size(moreau), moreau[R.MOREAU_STEP], moreau[R.MOREAU_LARGEST], moreau[R.col_impulse(1)]) == \
+        (2, 0.25, 0.75, -0.75)

@@ -65,8 +65,8 @@ def trajectory(scene, method, options, code, row, record, origin, arcs, events, 
         info.update(net_advance=values[get("advance")], cycle_periods=values[get("cycle")])
     used = options
     if method == "moreau":
-        used = {**options, "h": float(row[R.DATA + 1])}
-        info.update(steps_per_period=int(row[R.DATA]), h_requested=options["h"])
+        used = {**options, "h": float(row[R.MOREAU_STEP])}
+        info.update(steps_per_period=R.data_size(row), h_requested=options["h"])
         if options["iteration"] == "fixed_point":
             info.update(fp_iterations=values[get("fp_iterations")],
                         fp_unconverged_steps=values[get("fp_unconverged")])

@@ -59,7 +59,7 @@ class _Prepared:
                                  MAX_CYCLE, o["accumulation_tol"], True, o.get("iteration") == "fixed_point",
                                  o.get("fp_tol", 0.0), o.get("fp_max_iter", 1))
         self.args = (self.table, self.run, _NO_BOUNDARIES, _no_crossings())
-        self.steps = (moreau.sample_steps(int(self.row[R.DATA]), scene.record.samples_per_period)
+        self.steps = (moreau.sample_steps(R.data_size(self.row), scene.record.samples_per_period)
                       if self.code == R.MOREAU and scene.record.dense else _NO_STEPS)
 
 
@@ -267,7 +267,7 @@ def simulate_batch(profiles, x0, v0=0.0, phase=0.0, *, profile_index=None, surfa
         raise ValueError(f"simulate_batch: {size:,} members need about {need / 1024**3:.3g} GiB of records, more "
                          f"than the {BATCH_MEMORY_LIMIT / 1024**3:g} GiB allowed per call; simulate them in parts")
     if method == "moreau":
-        check_moreau_work(int(table.rows[0, R.DATA]), total, horizon_name)
+        check_moreau_work(R.data_size(table.rows[0]), total, horizon_name)
     index = (np.arange(size) if table.size > 1 and profile_index is None
              else _profile_index(0 if profile_index is None else profile_index, size, table.size))
     dt = table.rows[index, R.DT]
@@ -324,7 +324,7 @@ def simulate_batch(profiles, x0, v0=0.0, phase=0.0, *, profile_index=None, surfa
     call(K.MEMBER_RUNS[table.code], members, table.rows, run, relative, crossings, _hist(int(max_cycle)),
          *_no_recording())
     if method == "moreau":
-        options = {**options, "h": float(table.rows[0, R.DATA + 1])}
+        options = {**options, "h": float(table.rows[0, R.MOREAU_STEP])}
     return BatchResult(records=members.view(np.recarray), origin=origin, dt=dt, boundaries=boundaries,
                        crossings=crossings.view(np.recarray), method=method, options=options, until=until,
                        horizon=total)

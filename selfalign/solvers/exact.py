@@ -37,20 +37,14 @@ from . import records as R
 
 def profile_row(profile) -> tuple[int, np.ndarray]:
     """(kernel method code, profile row) of ``profile`` for the exact solver."""
-    if isinstance(profile, FourierProfile):
-        amax = profile.max_abs_acceleration
-        head = R.profile_header(profile.dt, amax, profile.velocity_swing, amax)
-        return R.EXACT_SMOOTH, np.array(head + [profile.order] + profile.cos_coeffs.tolist()
-                                        + profile.sin_coeffs.tolist() + profile.omega.tolist())
     amax = profile.max_abs_acceleration
     head = R.profile_header(profile.dt, amax, profile.velocity_swing, amax)
+    if isinstance(profile, FourierProfile):
+        return R.EXACT_SMOOTH, R.fourier_row(head, profile.cos_coeffs, profile.sin_coeffs, profile.omega)
     if isinstance(profile, PiecewiseLinearProfile):
-        return R.EXACT_SMOOTH, np.array(head + [-profile.accels.size] + profile.breaks.tolist()
-                                        + profile.accels.tolist() + profile.jerks.tolist()
-                                        + profile.piece_velocity[:-1].tolist() + profile.piece_position[:-1].tolist()
-                                        + profile.ends.tolist())
-    return R.EXACT_PIECEWISE, np.array(head + [profile.accels.size] + profile.breaks.tolist()
-                                       + profile.accels.tolist())
+        return R.EXACT_SMOOTH, R.linear_row(head, profile.breaks, profile.accels, profile.jerks,
+                                            profile.piece_velocity[:-1], profile.piece_position[:-1], profile.ends)
+    return R.EXACT_PIECEWISE, R.piecewise_row(head, profile.breaks, profile.accels)
 
 
 def piecewise_rows(breaks: np.ndarray, accels: np.ndarray, velocity: np.ndarray | None = None) -> np.ndarray:
@@ -71,18 +65,18 @@ def piecewise_rows(breaks: np.ndarray, accels: np.ndarray, velocity: np.ndarray 
     keep = lengths > 0.0
     m = keep.sum(axis=1)
     mmax = int(m.max()) if m.size else accels.shape[1]
-    width = R.DATA + 2 + 2 * mmax
+    width = R.col_level(mmax, mmax)
     rows = np.full((breaks.shape[0], width), np.nan)
     rows[:, R.DT], rows[:, R.AMAX], rows[:, R.SWING], rows[:, R.REST_ACC] = dt, amax, swing, amax
     rows[:, R.DATA] = m
     if np.all(keep):
         k = accels.shape[1]
-        rows[:, R.DATA + 1:R.DATA + 2 + k] = breaks
-        rows[:, R.DATA + 2 + k:R.DATA + 2 + 2 * k] = accels
+        rows[:, R.col_break(0):R.col_break(k + 1)] = breaks
+        rows[:, R.col_level(k, 0):R.col_level(k, k)] = accels
         return rows
     for i in range(breaks.shape[0]):
         b = np.concatenate([breaks[i, :1], breaks[i, 1:][keep[i]]])
         a = accels[i][keep[i]]
-        rows[i, R.DATA + 1:R.DATA + 2 + a.size] = b
-        rows[i, R.DATA + 2 + a.size:R.DATA + 2 + 2 * a.size] = a
+        rows[i, R.col_break(0):R.col_break(a.size + 1)] = b
+        rows[i, R.col_level(a.size, 0):R.col_level(a.size, a.size)] = a
     return rows

@@ -3,8 +3,9 @@
 numba is imported here and nowhere else at import time of a solver call, so that
 ``import selfalign`` stays light.  :func:`kernel`:
 
-* registers the model formulas (:mod:`selfalign.model.registry`) with numba, so the
-  kernel calls those very functions compiled;
+* registers the model formulas (:mod:`selfalign.model.registry`) and the profile-row layout
+  (:data:`selfalign.solvers.records.LAYOUT`) with numba, so the kernel calls those very functions
+  compiled;
 * keeps numba's on-disk cache (``cache=True``) in a directory keyed by the content of
   every source file the kernel is compiled from, by the numba and Python versions and by
   the CPU: numba itself checks only the time stamp of the file that holds the decorated
@@ -83,9 +84,12 @@ def kernel():
                           "install it with `pip install numba`") from None
     from ..model import arcs, friction  # noqa: F401  (they fill the registry)
     from ..model.registry import FORMULAS
+    from . import records
 
     for func in FORMULAS:
         register_jitable(func)
+    for func in records.LAYOUT:              # integer arithmetic on column indices: inlined where read
+        register_jitable(inline="always")(func)
     previous = numba.config.CACHE_DIR
     numba.config.CACHE_DIR = str(cache_dir(numba.__version__))
     try:

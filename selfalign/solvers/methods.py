@@ -185,7 +185,7 @@ def check_scene(scene, method: str | None = None, options: dict | None = None) -
     if reason:
         raise ValueError(reason)
     if method == "moreau":
-        n = int(profile_row(scene.profile, scene.phase, options)[R.DATA])
+        n = R.data_size(profile_row(scene.profile, scene.phase, options))
         check_moreau_work(n, scene.horizon_periods, "horizon.periods" if scene.until == "periods"
                           else "horizon.max_periods")
     if isinstance(scene.surface, StopZone):

@@ -126,7 +126,7 @@ def profile_row(profile, phase: float, options: dict) -> np.ndarray:
     check_swing_seen(profile, n, impulse)
     largest = float(np.max(np.abs(impulse)))
     head = R.profile_header(profile.dt, profile.max_abs_acceleration, profile.velocity_swing, largest / h)
-    return np.concatenate([head, [n, h, largest], impulse])
+    return R.moreau_row(head, h, impulse)
 
 
 def check_swing_seen(profile, n: int, impulse: np.ndarray) -> None:

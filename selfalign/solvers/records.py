@@ -120,3 +120,86 @@ def pack_profiles(rows: list[np.ndarray]) -> np.ndarray:
 def profile_header(dt: float, max_acceleration: float, swing: float, rest_acc: float) -> list[float]:
     """The header columns of one profile row (see the module docstring)."""
     return [float(dt), float(max_acceleration), float(swing), float(rest_acc)]
+
+
+# The row layout (module docstring), the one place that knows where a datum sits.  Plain functions
+# of the piece count m (harmonic count k) and an index; :func:`selfalign.solvers.jit.kernel`
+# registers them with numba (:data:`LAYOUT`), so that the engine reads rows through these very
+# functions and the builders below write them through the same ones.
+
+def data_size(row) -> int:
+    """The first data column: m pieces (piecewise constant), K harmonics (Fourier), -m pieces
+    (piecewise-linear y''), N steps (Moreau)."""
+    return int(row[DATA])
+
+
+def col_break(i: int) -> int:
+    """Column of break i (0..m) of a piecewise-constant or piecewise-linear row."""
+    return DATA + 1 + i
+
+
+def col_level(m: int, i: int) -> int:
+    """Column of piece i's y'' (piecewise constant), or of y'' at its start (piecewise linear)."""
+    return DATA + 2 + m + i
+
+
+def col_jerk(m: int, i: int) -> int:
+    """Column of piece i's jerk (the slope of y'') of a piecewise-linear row."""
+    return DATA + 2 + 2 * m + i
+
+
+def col_start_velocity(m: int, i: int) -> int:
+    """Column of y' at the start of piece i of a piecewise-linear row."""
+    return DATA + 2 + 3 * m + i
+
+
+def col_start_position(m: int, i: int) -> int:
+    """Column of y at the start of piece i of a piecewise-linear row."""
+    return DATA + 2 + 4 * m + i
+
+
+def col_end_level(m: int, i: int) -> int:
+    """Column of y'' at the end of piece i of a piecewise-linear row."""
+    return DATA + 2 + 5 * m + i
+
+
+def col_fourier(k: int, j: int, i: int) -> int:
+    """Column of harmonic i's cosine coefficient (j = 0), sine coefficient (1) or angular frequency
+    (2) of a Fourier row with k harmonics."""
+    return DATA + 1 + j * k + i
+
+
+#: Columns of a Moreau row: the step h and the largest |impulse|; :func:`col_impulse` the impulses.
+MOREAU_STEP, MOREAU_LARGEST = DATA + 1, DATA + 2
+
+
+def col_impulse(k: int) -> int:
+    """Column of the table impulse of Moreau step k."""
+    return DATA + 3 + k
+
+
+#: The layout functions the engine calls (registered with numba by :func:`selfalign.solvers.jit.kernel`).
+LAYOUT = (data_size, col_break, col_level, col_jerk, col_start_velocity, col_start_position, col_end_level,
+          col_fourier, col_impulse)
+
+
+def piecewise_row(head: list, breaks, accels) -> np.ndarray:
+    """The row of a piecewise-constant profile: m, breaks[0..m], accels[0..m-1]."""
+    return np.array(head + [len(accels)] + list(breaks) + list(accels), dtype=float)
+
+
+def linear_row(head: list, breaks, levels, jerks, velocities, positions, ends) -> np.ndarray:
+    """The row of a piecewise-linear-y'' profile: -m, breaks[0..m], then per piece y'' at its start,
+    the jerk, y' and y at its start, y'' at its end."""
+    return np.array(head + [-len(levels)] + list(breaks) + list(levels) + list(jerks) + list(velocities)
+                    + list(positions) + list(ends), dtype=float)
+
+
+def fourier_row(head: list, cos_coeffs, sin_coeffs, omega) -> np.ndarray:
+    """The row of a Fourier profile: K, the cosine and sine coefficients, the angular frequencies."""
+    return np.array(head + [len(omega)] + list(cos_coeffs) + list(sin_coeffs) + list(omega), dtype=float)
+
+
+def moreau_row(head: list, h: float, impulse: np.ndarray) -> np.ndarray:
+    """The row of Moreau time-stepping: N, h, the largest |impulse|, the N table impulses."""
+    return np.concatenate([head, [impulse.size, h, float(np.max(np.abs(impulse)))], impulse])

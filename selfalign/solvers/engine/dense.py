@@ -66,9 +66,9 @@ def sample_arcs(arcs, row, tau0, spp):
                     y1, yd1, _ = table_motion(row, arc.tau + sr)
                     dx = arc.v * sr - 0.5 * sig * sr * sr - (y1 - y0 - yd0 * sr)
                     vv = arc.v - sig * sr - (yd1 - yd0)
-                elif arc.kind != ARC_STICK and row[R.DATA] < 0.0:      # a slip of period_jerk_zone
-                    m = -int(row[R.DATA])
-                    jerk = row[R.DATA + 2 + 2 * m + piece_at(row, arc.tau)]
+                elif arc.kind != ARC_STICK and R.data_size(row) < 0:      # a slip of period_jerk_zone
+                    m = -R.data_size(row)
+                    jerk = row[R.col_jerk(m, piece_at(row, arc.tau))]
                     dx, vv, _ = A.jerk_step(arc.kind, arc.omega, arc.v, arc.acc, -jerk, sr)
                 else:
                     dx, vv = A.step(arc.kind, arc.omega, arc.v, arc.acc, sr)

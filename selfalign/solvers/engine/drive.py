@@ -275,7 +275,7 @@ def begin(method, s, row, scratch):
 @jit
 def _begin_piecewise(s, row, scratch):
     s.piece0 = piece_at(row, s.tau0)
-    return row[R.DATA + 2 + int(row[R.DATA]) + s.piece0], (scratch[0, :0], scratch[1, :0], scratch[2, :0])
+    return row[R.col_level(R.data_size(row), s.piece0)], (scratch[0, :0], scratch[1, :0], scratch[2, :0])
 
 
 @jit
@@ -356,7 +356,8 @@ def drive(s, method, row, run, bnd, cross, record, hist, buffers, scratch):
     count = 0
     reason = -1
     moreau = method == R.MOREAU
-    code = start_mode(s, a0, until, moreau, (row[R.DATA + 1], row[R.DATA + 2]) if moreau else (0.0, 0.0))
+    code = start_mode(s, a0, until, moreau, (row[R.MOREAU_STEP], row[R.MOREAU_LARGEST]) if moreau else
+                      (0.0, 0.0))
     record_crossings(s, bnd, cross, ARC_STICK, 0.0, s.xi, s.v, 0.0, s.xi, s.v, 0, s.tau0, 0.0)
     fast_forward = run.fast_forward and not record
     while code == DONE and s.n < total:

@@ -193,13 +193,10 @@ def period_jerk_zone(s, row, run, bnd, cross, record, buffers, scratch):
     until, max_events = run.until, run.max_events
     arcs, events = buffers[0], buffers[1]
     dt = row[R.DT]
-    m = -int(row[R.DATA])
-    b0 = R.DATA + 1
-    a0 = b0 + m + 1
-    j0 = b0 + 2 * m + 1
+    m = -R.data_size(row)
     tau0 = s.tau0
     i0 = piece_at(row, tau0)
-    tail = tau0 > row[b0 + i0]
+    tail = tau0 > row[R.col_break(i0)]
     xtol = 2.0 * EPS * dt
     rtol = 4.0 * EPS
     w = s.w
@@ -209,8 +206,8 @@ def period_jerk_zone(s, row, run, bnd, cross, record, buffers, scratch):
     s.fresh = False
     for seg_j in range(m + 1 if tail else m):
         p, ts, seg, dn, _ = period_segment(row, m, i0, tau0, tail, seg_j)
-        jerk = row[j0 + p]
-        a_seg = row[a0 + p] + jerk * (ts - row[b0 + p])
+        jerk = row[R.col_jerk(m, p)]
+        a_seg = row[R.col_level(m, p)] + jerk * (ts - row[R.col_break(p)])
         nn = n + dn
         s0 = 0.0
         a_slip = NAN                           # y'' at a slip start from stick: exactly +-r mu_bar

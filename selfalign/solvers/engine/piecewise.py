@@ -48,9 +48,9 @@ from .recording import record_arc, record_event
 def piece_at(row, tau):
     """Index of the piece holding phase ``tau`` (right-continuous) of a piecewise-constant or
     piecewise-linear-y'' row (m or -m pieces in its first data column)."""
-    m = abs(int(row[R.DATA]))
+    m = abs(R.data_size(row))
     i = 0
-    while i + 1 < m and row[R.DATA + 2 + i] <= tau:
+    while i + 1 < m and row[R.col_break(i + 1)] <= tau:
         i += 1
     return i
 
@@ -60,18 +60,17 @@ def period_segment(row, m, i0, tau0, tail, j):
     """(piece, start phase, length, period offset, starts at a break) of segment j of the period
     from tau0 (``tail``: tau0 is inside piece i0): the rest of piece i0, the following pieces,
     then (next period) the pieces before i0 and the head of piece i0.  The breaks of a
-    profile row with m pieces start at column DATA + 1 (piecewise-constant and -linear)."""
-    b0 = R.DATA + 1
+    profile row are read through :func:`~selfalign.solvers.records.col_break`."""
     if j == 0:
-        return i0, tau0, row[b0 + i0 + 1] - tau0, 0, not tail
+        return i0, tau0, row[R.col_break(i0 + 1)] - tau0, 0, not tail
     if j < m:
         p = i0 + j
         dn = 0
         if p >= m:
             p -= m
             dn = 1
-        return p, row[b0 + p], row[b0 + p + 1] - row[b0 + p], dn, True
-    return i0, row[b0 + i0], tau0 - row[b0 + i0], 1, True
+        return p, row[R.col_break(p)], row[R.col_break(p + 1)] - row[R.col_break(p)], dn, True
+    return i0, row[R.col_break(i0)], tau0 - row[R.col_break(i0)], 1, True
 
 
 @jit
@@ -119,12 +118,10 @@ def _advance(s, row, run, bnd, cross, record, buffers, uniform):
     until, max_events = run.until, run.max_events
     arcs, events = buffers[0], buffers[1]
     dt = row[R.DT]
-    m = int(row[R.DATA])
-    b0 = R.DATA + 1
-    a0 = R.DATA + 2 + m
+    m = R.data_size(row)
     tau0 = s.tau0
     i0 = s.piece0
-    tail = tau0 > row[b0 + i0]
+    tail = tau0 > row[R.col_break(i0)]
     nseg = m + 1 if tail else m
     zone, w, om, b1 = (False, 0.0, 0.0, 0.0) if uniform else (s.zone, s.w, s.omega, s.b1)
     r_static = s.static_ratio               # stick while |y''| <= r mu_bar; slip arcs use mu_bar
@@ -134,7 +131,7 @@ def _advance(s, row, run, bnd, cross, record, buffers, uniform):
     s.fresh = False
     for j in range(nseg):
         p, ts, seg, dn, at_break = period_segment(row, m, i0, tau0, tail, j)
-        a = row[a0 + p]
+        a = row[R.col_level(m, p)]
         nn = n + dn
         s0 = 0.0
         if at_break and not fresh:
@@ -142,7 +139,8 @@ def _advance(s, row, run, bnd, cross, record, buffers, uniform):
             if v * mode < 0.0:
                 v = 0.0
             if record:
-                acc_b = arc_parameters(s, xi, mode, row[a0 + (p - 1 if p > 0 else m - 1)])[3]   # the piece before
+                before = p - 1 if p > 0 else m - 1
+                acc_b = arc_parameters(s, xi, mode, row[R.col_level(m, before)])[3]
                 acc_a = arc_parameters(s, xi, mode, a)[3]
                 record_event(events, s, dt, EV_SWITCH, nn, ts, xi, v, mode, mode, acc_b, acc_a)
             if mode == 0 or v == 0.0:            # tie rule 3: re-decide at v = 0

@@ -32,12 +32,12 @@ STICK_LIMIT, SLIP_VELOCITY = 0, 1
 @jit
 def _fourier(row, t):
     """(y, y', y'') of the Fourier profile in ``row`` at time t."""
-    k = int(row[R.DATA])
+    k = R.data_size(row)
     y = 0.0
     yd = 0.0
     ydd = 0.0
     for i in range(k):
-        a, b, om = row[R.DATA + 1 + i], row[R.DATA + 1 + k + i], row[R.DATA + 1 + 2 * k + i]
+        a, b, om = row[R.col_fourier(k, 0, i)], row[R.col_fourier(k, 1, i)], row[R.col_fourier(k, 2, i)]
         c, sn = math.cos(om * t), math.sin(om * t)
         y += a * c + b * sn
         yd += om * (b * c - a * sn)
@@ -50,8 +50,8 @@ def ramp_level(row, i, value):
     """``value``, a y'' of piece i of a piecewise-linear-y'' row, kept within the piece's range
     [min(a_i, e_i), max(a_i, e_i)] (start value a_i, end value e_i: the profile's ``ends``): a
     ramp's a + j s, its break times rounded, would otherwise pass the level it ends on."""
-    m = -int(row[R.DATA])
-    a, e = row[R.DATA + 2 + m + i], row[R.DATA + 2 + 5 * m + i]
+    m = -R.data_size(row)
+    a, e = row[R.col_level(m, i)], row[R.col_end_level(m, i)]
     return min(max(value, min(a, e)), max(a, e))
 
 
@@ -59,15 +59,14 @@ def ramp_level(row, i, value):
 def _piecewise_linear(row, t):
     """(y, y', y'') of the piecewise-linear-y'' profile in ``row`` at time t in [0, 2 dt)."""
     dt = row[R.DT]
-    m = -int(row[R.DATA])
-    b0 = R.DATA + 1
+    m = -R.data_size(row)
     tau = t - dt if t >= dt else t
     i = 0
-    while i + 1 < m and row[b0 + i + 1] <= tau:
+    while i + 1 < m and row[R.col_break(i + 1)] <= tau:
         i += 1
-    s = tau - row[b0 + i]
-    a, j = row[b0 + m + 1 + i], row[b0 + 2 * m + 1 + i]
-    yd, y = row[b0 + 3 * m + 1 + i], row[b0 + 4 * m + 1 + i]
+    s = tau - row[R.col_break(i)]
+    a, j = row[R.col_level(m, i)], row[R.col_jerk(m, i)]
+    yd, y = row[R.col_start_velocity(m, i)], row[R.col_start_position(m, i)]
     return y + s * (yd + s * (a / 2.0 + s * j / 6.0)), yd + s * (a + s * j / 2.0), ramp_level(row, i, a + j * s)
 
 
@@ -75,7 +74,7 @@ def _piecewise_linear(row, t):
 def table_motion(row, t):
     """(y, y', y'') of the smooth stepper's profile ``row`` (a Fourier row has K > 0 in its
     first data column, a piecewise-linear one -m)."""
-    if row[R.DATA] > 0.0:
+    if R.data_size(row) > 0:
         return _fourier(row, t)
     return _piecewise_linear(row, t)
 
@@ -184,7 +183,7 @@ def _slip_minimum(row, t0, sigma, p, q, g_p, slope_p, g_q, slope_q, xtol, rtol):
     zeros between two grid points, so a dip of G is missed where G'' = -sigma y^(3) also changes
     sign in the interval (at a peak of |y''|); with h = dt / (64 (K + 1)) such a dip is shorter
     than h and less deep than h^3 max|y^(4)| / 8 (1.5e-5 of the peak table velocity for K = 1)."""
-    if row[R.DATA] < 0.0:
+    if R.data_size(row) < 0:
         h = q - p
         c = 2.0 * (g_q - g_p - slope_p * h) / (h * h)
         if c > 0.0:
@@ -201,9 +200,9 @@ def _slip_minimum(row, t0, sigma, p, q, g_p, slope_p, g_q, slope_q, xtol, rtol):
 def _grid_intervals(row):
     """Intervals of the smooth stepper's grid on one period: 64 (order + 1) on a Fourier
     profile, :data:`GRID_PER_PIECE` per piece on a piecewise-linear one."""
-    if row[R.DATA] > 0.0:
-        return 64 * (int(row[R.DATA]) + 1)
-    return GRID_PER_PIECE * -int(row[R.DATA])
+    if R.data_size(row) > 0:
+        return 64 * (R.data_size(row) + 1)
+    return GRID_PER_PIECE * -R.data_size(row)
 
 
 @jit
@@ -224,19 +223,18 @@ def smooth_grid(row, tau0, scratch):
     :data:`GRID_PER_PIECE` uniform points per piece, from tau0 round to tau0 + dt."""
     g = _grid_intervals(row)
     dt = row[R.DT]
-    if row[R.DATA] > 0.0:
+    if R.data_size(row) > 0:
         points = g + 1
         for i in range(points):
             scratch[0, i] = dt * i / g
     else:
-        m = -int(row[R.DATA])
-        b0 = R.DATA + 1
+        m = -R.data_size(row)
         scratch[0, 0] = 0.0
         points = 1
         for after in (True, False):           # the pieces' points after tau0, then (next period) before it
             for i in range(m):
                 for k in range(GRID_PER_PIECE):
-                    p = row[b0 + i] + (row[b0 + i + 1] - row[b0 + i]) * k / GRID_PER_PIECE
+                    p = row[R.col_break(i)] + (row[R.col_break(i + 1)] - row[R.col_break(i)]) * k / GRID_PER_PIECE
                     offset = p - tau0 if after else dt - (tau0 - p)
                     if (p > tau0 if after else p < tau0) and scratch[0, points - 1] < offset < dt:
                         scratch[0, points] = offset
@@ -288,7 +286,7 @@ def period_smooth(s, row, run, bnd, cross, record, buffers, scratch):
             f_left = _event_function(STICK_LIMIT, row, tau0, left, sgn, 0.0, 0.0, 0.0, limit)
             if f_left >= 0.0:
                 root = left
-            elif row[R.DATA] < 0.0 and not 2.0 * _event_function(STICK_LIMIT, row, tau0, 0.5 * (left + grid[k]), sgn,
+            elif R.data_size(row) < 0 and not 2.0 * _event_function(STICK_LIMIT, row, tau0, 0.5 * (left + grid[k]), sgn,
                                                                  0.0, 0.0, 0.0, limit) - f_left > 0.0:
                 root = _past_jump(row, tau0, sgn, limit, grid[k], xtol)
             else:

@@ -108,10 +108,9 @@ def period_moreau(s, row, run, bnd, cross, record, buffers, scratch):
     until, fixed_point, fp_tol, fp_max_iter = run.until, run.fixed_point, run.fp_tol, run.fp_max_iter
     samples, sample_steps = buffers[2], buffers[3]
     dt = row[R.DT]
-    nsteps = int(row[R.DATA])
-    h = row[R.DATA + 1]
-    largest = row[R.DATA + 2]
-    d0 = R.DATA + 3
+    nsteps = R.data_size(row)
+    h = row[R.MOREAU_STEP]
+    largest = row[R.MOREAU_LARGEST]
     half = 0.5 * h
     tau0 = s.tau0
     xi, v, n = s.xi, s.v, s.n
@@ -133,7 +132,7 @@ def period_moreau(s, row, run, bnd, cross, record, buffers, scratch):
             # the stick window), so jump to the first step that can start a slip.
             bound = h * friction_at(s, xi) * r_static
             k_next = k
-            while k_next < nsteps and abs(row[d0 + k_next]) <= bound:
+            while k_next < nsteps and abs(row[R.col_impulse(k_next)]) <= bound:
                 k_next += 1
             regions |= 1 << _step_region(s, xi)
             if record:
@@ -149,7 +148,7 @@ def period_moreau(s, row, run, bnd, cross, record, buffers, scratch):
         x_mid = xi + half * v
         mu = friction_at(s, x_mid)
         regions |= 1 << _step_region(s, x_mid)
-        v_free = v - row[d0 + k]
+        v_free = v - row[R.col_impulse(k)]
         if coulomb:
             v_new = _impulse(s, v_free, h * mu, fixed_point, fp_tol, fp_max_iter)
         else:
