@@ -88,8 +88,8 @@ def kernel():
 
     for func in FORMULAS:
         register_jitable(func)
-    for func in records.LAYOUT:              # integer arithmetic on column indices: inlined where read
-        register_jitable(inline="always")(func)
+    for func in records.LAYOUT:
+        register_jitable(func)
     previous = numba.config.CACHE_DIR
     numba.config.CACHE_DIR = str(cache_dir(numba.__version__))
     try:

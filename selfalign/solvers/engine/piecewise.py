@@ -100,21 +100,7 @@ def _harmonic_reaches(xi, v, acc0, b1, om, xb):
 
 @inlined
 def period_piecewise(s, row, run, bnd, cross, record, buffers, scratch):
-    """Advance member ``s`` from the period boundary (n, tau0) to (n + 1, tau0).
-
-    A member on a uniform surface whose crossings nobody asked for (no stop zone, no levels) runs
-    a specialisation of the same code in which the friction is 1 everywhere and every slip arc is
-    quadratic (:func:`_advance` with ``uniform`` a compile-time constant): the zone's branches,
-    the boundary test and the arc-kind dispatch fold away."""
-    if not s.zone and bnd.shape[0] == 0:
-        return _advance(s, row, run, bnd, cross, record, buffers, True)
-    return _advance(s, row, run, bnd, cross, record, buffers, False)
-
-
-@inlined
-def _advance(s, row, run, bnd, cross, record, buffers, uniform):
-    """:func:`period_piecewise`, for a uniform surface without boundaries if ``uniform`` (then
-    every region is LOW, mu_bar = 1 and every slip arc quadratic, eq. 11)."""
+    """Advance member ``s`` from the period boundary (n, tau0) to (n + 1, tau0)."""
     until, max_events = run.until, run.max_events
     arcs, events = buffers[0], buffers[1]
     dt = row[R.DT]
@@ -123,9 +109,9 @@ def _advance(s, row, run, bnd, cross, record, buffers, uniform):
     i0 = s.piece0
     tail = tau0 > row[R.col_break(i0)]
     nseg = m + 1 if tail else m
-    zone, w, om, b1 = (False, 0.0, 0.0, 0.0) if uniform else (s.zone, s.w, s.omega, s.b1)
+    zone, w, om, b1 = s.zone, s.w, s.omega, s.b1
     r_static = s.static_ratio               # stick while |y''| <= r mu_bar; slip arcs use mu_bar
-    lowest = INF if uniform else next_boundary(bnd, cross)
+    lowest = next_boundary(bnd, cross)
     xi, v, mode, n, count, path, xi_max, dxp, lo, hi, regions, stalled = load_period(s)
     fresh = s.fresh
     s.fresh = False
@@ -144,7 +130,7 @@ def _advance(s, row, run, bnd, cross, record, buffers, uniform):
                 acc_a = arc_parameters(s, xi, mode, a)[3]
                 record_event(events, s, dt, EV_SWITCH, nn, ts, xi, v, mode, mode, acc_b, acc_a)
             if mode == 0 or v == 0.0:            # tie rule 3: re-decide at v = 0
-                mu = 1.0 if uniform else friction_at(s, xi)
+                mu = friction_at(s, xi)
                 new = F.decide_mode(a, r_static * mu)
                 if new != mode:
                     count += 1
@@ -166,10 +152,7 @@ def _advance(s, row, run, bnd, cross, record, buffers, uniform):
         while mode != 0:
             if v * mode < 0.0:                  # tie rule 4
                 v = 0.0
-            if uniform:
-                kind, r, mu, acc0 = ARC_QUADRATIC, LOW, 1.0, -a - mode
-            else:
-                kind, r, mu, acc0 = arc_parameters(s, xi, mode, a)
+            kind, r, mu, acc0 = arc_parameters(s, xi, mode, a)
             regions |= 1 << r
             rem = seg - s0
             s_b = INF
@@ -228,7 +211,7 @@ def _advance(s, row, run, bnd, cross, record, buffers, uniform):
                 dxp += dx
                 xi = xi_new
                 v = 0.0
-                mu = 1.0 if uniform else friction_at(s, xi)
+                mu = friction_at(s, xi)
                 new = F.decide_mode(a, r_static * mu)
                 if record:
                     record_event(events, s, dt, EV_STICK if new == 0 else EV_REVERSAL, nn, ts + s0, xi,
@@ -248,7 +231,7 @@ def _advance(s, row, run, bnd, cross, record, buffers, uniform):
                 save_period(s, count, path, xi_max, dxp, lo, hi, regions)
                 return stop_at(s, STOP_BUDGET, xi, v, mode, nn, ts + s0, dt)
         if mode == 0:
-            r = LOW if uniform else region_of(s, xi, 0)
+            r = region_of(s, xi, 0)
             regions |= 1 << r
             if record:
                 record_arc(arcs, s, dt, ARC_STICK, nn, ts + s0, seg - s0, xi, 0.0, 0.0, a, 0.0, 0, r)
