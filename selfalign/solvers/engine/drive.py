@@ -41,7 +41,7 @@ from .codes import (
 from .compiled import OPTIONS, borrowed_all, inlined, jit
 from .field import friction_at, holds_for_good, record_crossings
 from .jerk_zone import period_jerk_zone
-from .piecewise import period_piecewise, piece_at
+from .piecewise import period_piecewise, period_piecewise_called, piece_at
 from .recording import record_sample
 from .smooth import grid_scratch, period_smooth, smooth_grid
 from .timestepping import period_moreau
@@ -292,7 +292,8 @@ def _begin_none(s, row, scratch):
 def step(method, s, row, run, bnd, cross, record, buffers, scratch):
     """Advance member ``s`` one period with the stepper of ``method`` (the dispatch of the stepper
     contract, :mod:`selfalign.solvers.engine`).  Compiled, specialised on the method (:func:`_step`),
-    so that a run compiles only its own stepper."""
+    so that a run compiles only its own stepper; a recorded run calls the piecewise stepper rather
+    than inlining it (half the compile time, where the recording sets the speed anyway)."""
     if method == R.EXACT_PIECEWISE:
         return period_piecewise(s, row, run, bnd, cross, record, buffers, scratch)
     if method == R.EXACT_SMOOTH:
@@ -322,6 +323,9 @@ def _begin(method, s, row, scratch):
 @overload(step, inline="always", jit_options=OPTIONS)
 def _step(method, s, row, run, bnd, cross, record, buffers, scratch):
     code = _method_code(method)
+    if code == R.EXACT_PIECEWISE and isinstance(record, types.BooleanLiteral) and record.literal_value:
+        return lambda method, s, row, run, bnd, cross, record, buffers, scratch: period_piecewise_called(
+            s, row, run, bnd, cross, record, buffers, scratch)
     if code == R.EXACT_PIECEWISE:
         return lambda method, s, row, run, bnd, cross, record, buffers, scratch: period_piecewise(
             s, row, run, bnd, cross, record, buffers, scratch)

@@ -238,3 +238,8 @@ def period_piecewise(s, row, run, bnd, cross, record, buffers, scratch):
     s.xi, s.v, s.mode, s.n = xi, v, mode, n + 1
     save_period(s, count, path, xi_max, dxp, lo, hi, regions)
     return DONE
+
+
+#: :func:`period_piecewise` called rather than inlined: a recorded run (one trajectory, its speed set
+#: by the recording) compiles in half the time, while batches keep the inlined stepper.
+period_piecewise_called = jit(period_piecewise.py_func)
