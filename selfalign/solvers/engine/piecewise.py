@@ -242,4 +242,4 @@ def period_piecewise(s, row, run, bnd, cross, record, buffers, scratch):
 
 #: :func:`period_piecewise` called rather than inlined: a recorded run (one trajectory, its speed set
 #: by the recording) compiles in half the time, while batches keep the inlined stepper.
-period_piecewise_called = jit(period_piecewise.py_func)
+period_piecewise_called = jit(getattr(period_piecewise, "py_func", period_piecewise))
