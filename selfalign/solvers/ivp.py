@@ -25,7 +25,16 @@ finite-jerk profile), at a period boundary
 
 Under Stribeck friction a slip step is at most v_s / (max|y''| + r max mu_bar) long: v changes
 by at most v_s in one step, so no step crosses the band |v| ~ v_s where mu rises to mu_s with
-no stage inside it (its error estimate would see mu_k only and accept an error far above rtol).
+no stage inside it (its error estimate would see mu_k only and accept an error far above rtol);
+a v_s so small that a period would need more than 1e6 such steps is refused before the run
+(:func:`selfalign.solvers.methods.check_ivp_work`).  rtol and atol are bounded
+(:data:`selfalign.solvers.methods.IVP_RTOL`, ``IVP_ATOL``).
+
+x is monotone in a slip, so a slip crosses each zone boundary at most once, and never the one it
+starts on (which is no event of it).  A step that crosses a boundary and, past x' = 0, comes back
+(the ODE of the mode goes on beyond the slip's end) shows solve_ivp no sign change of x - b; a
+slip that stops beyond a boundary it did not report is therefore integrated again up to its
+stop, where the crossing is a sign change of the last step.
 
 At v = 0 the mode is decided like the model (:func:`selfalign.model.friction.decide_mode`),
 at the first time (at most 64 ulps on) where it differs from the slip that just ended: a slip
@@ -63,6 +72,7 @@ from ..model.friction import StopZone, coefficient, decide_mode, stribeck_factor
 from . import records as R
 from .engine.codes import DONE, STOP_BUDGET, STOP_STALL
 from .jit import call, kernel
+from .methods import ivp_slip_step
 from .outcomes import HIGH, LOW, MAX_CYCLE, STALL_EVENTS, STALL_ULPS, ZONE, EventKind, Reason
 
 #: The slip modes a stick can end in, in the order of the stick's exit events.
@@ -92,15 +102,7 @@ class _Run:
             self.switches = set(profile.breaks[1:].tolist())      # the period end is a switch too
         else:
             self.stick_max_step = self.dt / (16 * getattr(profile, "order", 1))
-        # Stribeck friction rises from mu_k to mu_s within |v| ~ v_s of v = 0.  A step longer than
-        # that band takes to cross can sample the slip law only at speeds where it is mu_k: its error
-        # estimate is blind to the extra friction, and the step is accepted with an error far above
-        # rtol.  The step is therefore capped so that v changes by at most v_s in one, |x''| being at
-        # most max|y''| + r max mu_bar.
-        self.slip_max_step = math.inf
-        if self.law.stribeck:
-            top_mu = self.surface.c_mu if self.zone else 1.0
-            self.slip_max_step = self.law.v_s / (profile.max_abs_acceleration + self.law.ratio * top_mu)
+        self.slip_max_step = ivp_slip_step(profile, self.surface, self.law)     # Stribeck friction
         self.origin = origin
         self.tau0 = scene.phase * self.dt
         self.p, self.tau = 0, self.tau0
@@ -287,16 +289,33 @@ class _Run:
             acc = self.acceleration
             rhs = lambda t, y: (y[1], -acc(t) - s * mu_bar(y[0], y[1]))  # noqa: E731
         events = [_event(self.velocity_event(tau_a), -s)]
-        bounds = (0.0, self.surface.w) if self.zone else ()
+        # x is monotone in a slip (it ends at x' = 0), so a boundary the slip starts on is never
+        # crossed in it: only the others are events, each in the direction the slip moves.
+        bounds = tuple(b for b in ((0.0, self.surface.w) if self.zone else ()) if b != self.x)
         for b in bounds:
-            side = -1.0 if (self.x > b or (self.x == b and s > 0)) else 1.0
-            events.append(_event(lambda t, y, b=b: y[0] - b, side))
-        sol = solve_ivp(rhs, (tau_a, tau_b), [self.x, self.v], method=self.integrator, rtol=self.rtol,
-                        atol=self.atol, max_step=self.slip_max_step, events=events, dense_output=self.dense)
-        self.count(sol)
+            events.append(_event(lambda t, y, b=b: y[0] - b, -1.0 if self.x > b else 1.0))
+        x0 = self.x
+        t_end = tau_b
+        while True:
+            sol = solve_ivp(rhs, (tau_a, t_end), [x0, self.v], method=self.integrator, rtol=self.rtol,
+                            atol=self.atol, max_step=self.slip_max_step, events=events, dense_output=self.dense)
+            self.count(sol)
+            if sol.status != 1 or sol.t_events[0].size == 0 or t_end != tau_b:
+                break
+            # solve_ivp sees an event only as a sign change between step ends.  A step that carries
+            # x across a boundary and, past x' = 0, back (the ODE of this mode goes on beyond the
+            # slip's end) shows no change of x - b: the slip then ends at x' = 0 on the far side of
+            # a boundary it never reported, integrated across the kink of mu_bar.  Since x is
+            # monotone up to x' = 0, that happened iff the stop lies beyond a boundary; integrating
+            # again only up to the stop ends the last step there, so the crossing is a sign change.
+            x_stop = float(sol.y_events[0][0][0])
+            if not any(min(x0, x_stop) < b < max(x0, x_stop) for b in bounds):
+                break
+            t_end = float(sol.t_events[0][0])
         if sol.status == -1:
             return Reason.SOLVER_FAILED, f"solve_ivp failed in slip at period {self.p}, tau {tau_a!r}: {sol.message}"
-        x0 = self.x
+        if sol.status == 0 and t_end != tau_b:           # the stop, reached again without a crossing
+            sol.status, sol.t_events[0], sol.y_events[0] = 1, sol.t[-1:], sol.y[:, -1:].T
         if sol.status == 1:
             which = next(i for i, te in enumerate(sol.t_events) if te.size)
             tau_e = float(sol.t_events[which][0])

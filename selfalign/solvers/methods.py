@@ -43,6 +43,16 @@ MAX_FP_ITERATIONS = 10_000
 MAX_ACCUMULATION_TOL = 1e-6
 #: Default ``accumulation_tol`` of every method (absolute, dimensionless length).
 ACCUMULATION_TOL = 1e-12
+#: Tolerances of solve_ivp the ivp method accepts.  rtol: from 100 eps (scipy raises smaller values
+#: to it, with a warning) to 1e-3 (the method is the accuracy baseline: a looser one is a mistake).
+#: atol: from 1e-15 (positions and velocities are dimensionless, of order 1e-3 to 1e2 in the
+#: paper's scenes; a smaller atol asks more digits of a state crossing 0 than doubles carry, and
+#: the step control then shrinks steps without end: workflow/scenes/stop_zone.yaml took 0.02 s at
+#: 1e-15 and did not finish in 60 s at 1e-30) to 1e-3.
+IVP_RTOL, IVP_ATOL = (100 * 2.0**-52, 1e-3), (1e-15, 1e-3)
+#: Most solve_ivp steps per period a slip can need under Stribeck friction (:func:`ivp_slip_step`),
+#: checked before the run: at ~20 us a step, 1e6 steps are 20 s per period.
+MAX_IVP_STEPS_PER_PERIOD = 10**6
 #: The integrators of scipy.integrate.solve_ivp the ivp method can use.
 INTEGRATORS = ("RK23", "RK45", "DOP853", "Radau", "BDF", "LSODA")
 #: Iterations of the implicit Moreau step.
@@ -115,6 +125,31 @@ def friction_refused(method: str, friction, options: dict) -> str | None:
     return None
 
 
+def ivp_slip_step(profile, surface, law) -> float:
+    """The longest solve_ivp step of a slip (``inf`` but under Stribeck friction).
+
+    Stribeck friction rises from mu_k to mu_s within |v| ~ v_s of v = 0.  A step longer than that
+    band takes to cross can sample the slip law only at speeds where it is mu_k: its error estimate
+    is blind to the extra friction, and the step is accepted with an error far above rtol.  So v
+    may change by at most v_s in one step, |x''| being at most max|y''| + r max mu_bar."""
+    if not law.stribeck:
+        return math.inf
+    top_mu = surface.c_mu if isinstance(surface, StopZone) else 1.0
+    return law.v_s / (profile.max_abs_acceleration + law.ratio * top_mu)
+
+
+def check_ivp_work(scene) -> None:
+    """ValueError if a slip of ``scene`` under Stribeck friction needs more than
+    :data:`MAX_IVP_STEPS_PER_PERIOD` solve_ivp steps per period (:func:`ivp_slip_step`), naming v_s,
+    the estimate and the limit."""
+    steps = scene.profile.dt / ivp_slip_step(scene.profile, scene.surface, scene.friction)
+    if steps > MAX_IVP_STEPS_PER_PERIOD:
+        raise ValueError(f"friction v_s = {scene.friction.v_s!r} is too small for method 'ivp': a slip step may "
+                         f"change v by at most v_s, so a period needs up to {steps:.3g} solve_ivp steps (at most "
+                         f"{MAX_IVP_STEPS_PER_PERIOD:.0e} allowed, ~20 us each); use method 'moreau', whose implicit "
+                         f"step solves the Stribeck law at any v_s")
+
+
 def _exact_refuses(scene):
     smooth = (FourierProfile, PiecewiseLinearProfile)
     if isinstance(scene.profile, FourierProfile) and isinstance(scene.surface, StopZone):
@@ -149,8 +184,8 @@ METHODS = {
                                    "an accumulation ends within this distance of the scheme's x_stick_min"),
     }),
     "ivp": Method("ivp", "scipy.integrate.solve_ivp mode by mode with event location", {
-        "rtol": Option(1e-8, lambda n, v: _real(n, v, 0.0, 1.0), "relative tolerance of solve_ivp"),
-        "atol": Option(1e-10, lambda n, v: _real(n, v), "absolute tolerance of solve_ivp"),
+        "rtol": Option(1e-8, lambda n, v: _real(n, v, *IVP_RTOL, False, False), "relative tolerance of solve_ivp"),
+        "atol": Option(1e-10, lambda n, v: _real(n, v, *IVP_ATOL, False, False), "absolute tolerance of solve_ivp"),
         "integrator": Option("DOP853", lambda n, v: _choice(n, v, INTEGRATORS), "solve_ivp method"),
         "max_events": Option(1_000_000, lambda n, v: _integer(n, v, MAX_EVENTS), "event budget of the run"),
         "accumulation_tol": Option(ACCUMULATION_TOL, lambda n, v: _real(n, v),
@@ -188,6 +223,8 @@ def check_scene(scene, method: str | None = None, options: dict | None = None) -
         n = R.data_size(profile_row(scene.profile, scene.phase, options))
         check_moreau_work(n, scene.horizon_periods, "horizon.periods" if scene.until == "periods"
                           else "horizon.max_periods")
+    if method == "ivp":
+        check_ivp_work(scene)
     if isinstance(scene.surface, StopZone):
         check_accumulation_tol(options["accumulation_tol"], scene.surface.w)
     return options
