@@ -18,6 +18,17 @@ from .profiles import MIN_RAMP_FRACTION
 OBJECTIVES = ("process_time", "robustness")
 
 
+#: Most candidates of a search (periods x strokes x accelerations^2 x c_mu): the screen keeps ~25
+#: arrays over them (~200 bytes each), so 5e6 is ~1 GB; the default grid has 921,600.
+MAX_CANDIDATES = 5_000_000
+#: Most simulated entries of a verification (max_verified x entries x mu_samples), each up to 1000
+#: periods of the exact solver (~0.1 ms at 5e7 events/s): 2e6 are minutes; the default is 61,440.
+MAX_VERIFICATION_RUNS = 2_000_000
+#: Largest task.distance in part widths (the limit of a stop zone's position,
+#: :func:`~selfalign.model.friction.check_zone_position`).
+MAX_DISTANCE_WIDTHS = 2.0**32
+
+
 @dataclass(frozen=True)
 class DesignGrid:
     """Resolution of the search: ``periods`` (geometric over the period range), ``strokes``
@@ -41,6 +52,16 @@ class DesignGrid:
         if self.mu_samples % 2 == 0:
             raise ValueError(f"search.mu_samples must be odd (the middle of the mu range is a sample), "
                              f"got {self.mu_samples}")
+        candidates = self.periods * self.strokes * self.accelerations**2 * self.c_mu
+        if candidates > MAX_CANDIDATES:
+            raise ValueError(f"search: periods x strokes x accelerations^2 x c_mu = {candidates:.3g} candidates, more "
+                             f"than the {MAX_CANDIDATES:.0e} the screen holds in memory (~200 bytes each); lower "
+                             f"search.accelerations or search.periods")
+        runs = self.max_verified * self.entries * self.mu_samples
+        if runs > MAX_VERIFICATION_RUNS:
+            raise ValueError(f"search: max_verified x entries x mu_samples = {runs:.3g} simulated entries, more than "
+                             f"the {MAX_VERIFICATION_RUNS:.0e} allowed (each up to 1000 periods; the defaults are "
+                             f"48 x 256 x 5 = 61,440); lower search.entries or search.mu_samples")
 
 
 @dataclass(frozen=True)
@@ -85,6 +106,13 @@ class DesignSpec:
             check_positive("actuator.ramp", self.ramp)
         for key in ("mu", "width", "max_stroke", "max_acceleration", "distance", "tolerance", "g"):
             check_positive(key, getattr(self, key))
+        if self.distance > MAX_DISTANCE_WIDTHS * self.width:
+            limit = MAX_DISTANCE_WIDTHS * self.width
+            raise ValueError(f"task.distance must be at most 2^32 part widths ({limit:.6g} m for part.width = "
+                             f"{self.width!r} m), got {self.distance!r}")
+        if self.tolerance >= self.distance:
+            raise ValueError(f"task.tolerance ({self.tolerance!r} m) must be smaller than task.distance "
+                             f"({self.distance!r} m): the part starts outside the band it must end in")
         if self.min_stroke is not None and not 0.0 < check_finite("min_stroke", self.min_stroke) <= self.max_stroke:
             raise ValueError(f"min_stroke must lie in (0, max_stroke = {self.max_stroke!r}], got {self.min_stroke!r}")
         delta = check_finite("mu_uncertainty", self.mu_uncertainty)
