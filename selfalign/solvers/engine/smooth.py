@@ -25,7 +25,7 @@ BRENT_MAX_ITER = 200
 #: (:func:`_slip_minimum`, :func:`_jerk_arc_end`).
 GRID_PER_PIECE = 16
 #: Event functions of this stepper (:func:`_event_function`).
-STICK_LIMIT, SLIP_VELOCITY = 0, 1
+STICK_LIMIT, SLIP_VELOCITY, JERK = 0, 1, 2
 
 
 
@@ -84,7 +84,10 @@ def _event_function(kind, row, t0, s, sign, v, s0, yd0, limit):
     """Event functions of the smooth stepper: STICK_LIMIT, |y''| crossing the stick limit
     ``limit`` = r mu_bar = r upwards while stuck (sign sgn(y'')); SLIP_VELOCITY, the relative
     velocity of a slip in direction ``sign`` from (s0, v): x' = v - sign (s - s0) -
-    (y'(t0 + s) - y'(t0 + s0)), signed."""
+    (y'(t0 + s) - y'(t0 + s0)), signed; JERK, sign y''' of a Fourier profile (its zeros are the
+    extrema of y'')."""
+    if kind == JERK:
+        return sign * _fourier_jerk(row, t0 + s)
     y, yd, ydd = table_motion(row, t0 + s)
     if kind == STICK_LIMIT:
         return sign * ydd - limit
@@ -151,6 +154,49 @@ def _slip_sign_point(row, t0, sign, v, s0, yd0, limit, right):
         if _event_function(SLIP_VELOCITY, row, t0, p, sign, v, s0, yd0, limit) > 0.0:
             return p
     return s0
+
+
+@jit
+def _fourier_jerk(row, t):
+    """y''' of the Fourier profile in ``row`` at time t."""
+    k = R.data_size(row)
+    total = 0.0
+    for i in range(k):
+        a, b, om = row[R.col_fourier(k, 0, i)], row[R.col_fourier(k, 1, i)], row[R.col_fourier(k, 2, i)]
+        total += om * om * om * (a * math.sin(om * t) - b * math.cos(om * t))
+    return total
+
+
+@jit
+def _fourier_peak_bound(row):
+    """A bound of max|y''''| of the Fourier profile in ``row``: the sum of |c_i| w_i^4."""
+    k = R.data_size(row)
+    total = 0.0
+    for i in range(k):
+        a, b, om = row[R.col_fourier(k, 0, i)], row[R.col_fourier(k, 1, i)], row[R.col_fourier(k, 2, i)]
+        total += math.sqrt(a * a + b * b) * om**4
+    return total
+
+
+@jit
+def _stick_peak(row, t0, p, q, ydd_p, ydd_q, limit, m4, xtol, rtol):
+    """Where |y''| of a Fourier profile exceeds the stick limit inside the grid interval [p, q]
+    although not at its ends, or -1.
+
+    Only at an interior extremum t* of y'' (y'''(t*) = 0) can it: by Taylor about t*,
+    |y''(t*)| <= |y''| at the nearer end + m4 (q - p)^2 / 8 (m4 >= max|y''''|), so an interval where
+    that bound stays within the limit is skipped; otherwise the extremum between a sign change of
+    y''' is located by Brent's method and returned if |y''| there exceeds the limit (a stuck mass
+    then slips between the interval's start and it; the caller locates where)."""
+    if not max(abs(ydd_p), abs(ydd_q)) + m4 * (q - p) * (q - p) / 8.0 > limit:
+        return -1.0
+    j_p, j_q = _fourier_jerk(row, t0 + p), _fourier_jerk(row, t0 + q)
+    if j_p == 0.0 or j_q == 0.0 or (j_p > 0.0) == (j_q > 0.0):
+        return -1.0
+    peak = _brent(JERK, row, t0, 1.0, 0.0, 0.0, 0.0, 0.0, p, q, xtol, rtol)
+    if abs(table_motion(row, t0 + peak)[2]) > limit:
+        return peak
+    return -1.0
 
 
 @jit
@@ -268,24 +314,36 @@ def period_smooth(s, row, run, bnd, cross, record, buffers, scratch):
     g = grid.shape[0]
     lowest = next_boundary(bnd, cross)
     limit = s.static_ratio              # stick while |y''| <= r mu_bar (mu_bar = 1 here)
+    fourier = R.data_size(row) > 0
+    m4 = _fourier_peak_bound(row) if fourier else 0.0
     while True:
         k0 = 0
         while k0 < g and grid[k0] <= s0:
             k0 += 1
         if mode == 0:
             k = k0
+            peak = -1.0
             while k < g and not abs(g_ydd[k]) > limit:
+                if fourier and k > 0:
+                    left = max(s0, grid[k - 1])
+                    ydd_left = g_ydd[k - 1] if left == grid[k - 1] else table_motion(row, tau0 + left)[2]
+                    peak = _stick_peak(row, tau0, left, grid[k], ydd_left, g_ydd[k], limit, m4, xtol, rtol)
+                    if peak >= 0.0:
+                        break
                 k += 1
             if k >= g:
                 if record:
                     record_arc(arcs, s, dt, ARC_STICK, n, tau0 + s0, dt - s0, xi, 0.0, 0.0, NAN, 0.0,
                                        0, LOW)
                 break
-            sgn = 1.0 if g_ydd[k] > 0.0 else -1.0
+            ydd_k = table_motion(row, tau0 + peak)[2] if peak >= 0.0 else g_ydd[k]
+            sgn = 1.0 if ydd_k > 0.0 else -1.0
             left = max(s0, grid[k - 1])
             f_left = _event_function(STICK_LIMIT, row, tau0, left, sgn, 0.0, 0.0, 0.0, limit)
             if f_left >= 0.0:
                 root = left
+            elif peak >= 0.0:                   # |y''| passes the limit only inside the interval
+                root = _brent(STICK_LIMIT, row, tau0, sgn, 0.0, 0.0, 0.0, limit, left, peak, xtol, rtol)
             elif R.data_size(row) < 0 and not 2.0 * _event_function(STICK_LIMIT, row, tau0, 0.5 * (left + grid[k]), sgn,
                                                                  0.0, 0.0, 0.0, limit) - f_left > 0.0:
                 root = _past_jump(row, tau0, sgn, limit, grid[k], xtol)
