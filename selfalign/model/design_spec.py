@@ -16,6 +16,19 @@ from .friction import FrictionLaw
 from .profiles import MIN_RAMP_FRACTION
 
 OBJECTIVES = ("process_time", "robustness")
+#: Most designs a search grid may hold (periods x strokes x accelerations^2 x c_mu values): the
+#: closed-form screening needs about :data:`BYTES_PER_DESIGN` bytes and 4 us per design (921,600
+#: designs, the default grid of a c_mu range: 0.23 GB, 3.6 s).
+MAX_DESIGNS = 4_000_000
+#: Peak memory of the search per design (tracemalloc over the grid and its screening: 245 bytes), rounded up.
+BYTES_PER_DESIGN = 250
+#: Most steady-state entry runs the verification may simulate (entries x mu_samples x
+#: max_verified; the default is 256 x 5 x 48 = 61,440): each runs until the part stops or the
+#: period budget ends, up to about a millisecond under static friction.
+MAX_ENTRY_RUNS = 500_000
+#: Longest distance [m] from the part to the strip: the process run simulates every period of
+#: the approach (a run of 2 D / (vbar dt) periods; a table is metres long, not more).
+MAX_DISTANCE = 10.0
 
 
 @dataclass(frozen=True)
@@ -41,6 +54,17 @@ class DesignGrid:
         if self.mu_samples % 2 == 0:
             raise ValueError(f"search.mu_samples must be odd (the middle of the mu range is a sample), "
                              f"got {self.mu_samples}")
+        runs = self.entries * self.mu_samples * self.max_verified
+        if runs > MAX_ENTRY_RUNS:
+            raise ValueError(f"search.entries x search.mu_samples x search.max_verified = {self.entries:,} x "
+                             f"{self.mu_samples:,} x {self.max_verified:,} = {runs:,} entry runs to simulate, more "
+                             f"than the {MAX_ENTRY_RUNS:,} allowed")
+
+    def designs(self, fixed_period: bool, fixed_c_mu: bool) -> int:
+        """Designs on the grid: periods x strokes x accelerations^2 x c_mu values (one period for a
+        fixed period, one c_mu for a fixed strip; strokes count at most ``strokes``)."""
+        return ((1 if fixed_period else self.periods) * self.strokes * self.accelerations**2
+                * (1 if fixed_c_mu else self.c_mu))
 
 
 @dataclass(frozen=True)
@@ -85,6 +109,12 @@ class DesignSpec:
             check_positive("actuator.ramp", self.ramp)
         for key in ("mu", "width", "max_stroke", "max_acceleration", "distance", "tolerance", "g"):
             check_positive(key, getattr(self, key))
+        if self.distance > MAX_DISTANCE:
+            raise ValueError(f"task.distance must be <= {MAX_DISTANCE:g} m (the process run simulates every period of "
+                             f"the approach), got {self.distance!r}")
+        if self.tolerance >= self.distance:
+            raise ValueError(f"task.tolerance must be smaller than task.distance = {self.distance!r} m (the part "
+                             f"starts outside the band it is to end in), got {self.tolerance!r}")
         if self.min_stroke is not None and not 0.0 < check_finite("min_stroke", self.min_stroke) <= self.max_stroke:
             raise ValueError(f"min_stroke must lie in (0, max_stroke = {self.max_stroke!r}], got {self.min_stroke!r}")
         delta = check_finite("mu_uncertainty", self.mu_uncertainty)
@@ -111,6 +141,11 @@ class DesignSpec:
             check_positive("max_process_time", self.max_process_time)
         if not isinstance(self.grid, DesignGrid):
             raise ValueError(f"grid must be a DesignGrid, got {type(self.grid).__name__}")
+        designs = self.grid.designs(p_low == p_high, low == high)
+        if designs > MAX_DESIGNS:
+            raise ValueError(f"search grid of {designs:,} designs (search.periods x strokes x accelerations^2 x c_mu) "
+                             f"needs about {designs * BYTES_PER_DESIGN / 1e9:.3g} GB, more than the {MAX_DESIGNS:,} "
+                             f"designs allowed ({MAX_DESIGNS * BYTES_PER_DESIGN / 1e9:g} GB)")
 
     @property
     def mu_range(self) -> tuple[float, float]:
