@@ -57,7 +57,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..model.design_spec import DesignSpec
+from ..model.design_spec import FRONT_SIMULATED, DesignSpec
 from ..model.errors import check_integer
 from ..model.friction import FrictionLaw, StopZone, stick_limit, stick_limits
 from ..model.profiles import (
@@ -99,8 +99,6 @@ DENSE_MU = 65
 MARGIN_STEPS = np.linspace(0.0, 0.96, 49)
 #: Candidates verified per call of the engine.
 BATCH = 8
-#: Candidates of the time-error front that are simulated.
-FRONT_SIMULATED = 12
 #: Why a verified candidate is not guaranteed (the start of its ``failure`` text).
 FAILURES = ("entries that do not stop", "entries that do not accumulate", "end positions spread beyond the tolerance",
             "the process run does not end at rest", "process time beyond max_process_time")
