@@ -186,6 +186,31 @@ def test_bad_spec_is_one_line_naming_the_key(path, value, message):
     assert "\n" not in text and text.startswith("x.yaml: ") and message in text, text
 
 
+@pytest.mark.parametrize("block, value, message", [
+    ("search", {"accelerations": 10_000}, "search grid of 14,400,000,000 designs (search.periods x strokes x "
+     "accelerations^2 x c_mu) needs about 3.6e+03 GB, more than the 4,000,000 designs allowed"),
+    ("search", {"periods": 10_000}, "search grid of 192,000,000 designs"),
+    ("search", {"entries": 10_000, "mu_samples": 9_999}, "search.entries x search.mu_samples x (search.max_verified "
+     "+ 12 designs of the front) = 10,000 x 9,999 x 60 = 5,999,400,000 entry runs to simulate, more than the 500,000 "
+     "allowed"),
+    ("task", {"distance": 1e300, "tolerance": 150e-6}, "task.distance must be <= 10 m"),
+    ("task", {"distance": 5e-3, "tolerance": 6e-3}, "task.tolerance must be smaller than task.distance"),
+    ("friction", {"kind": "static_kinetic"}, "friction.mu_s_over_mu_k: required with kind static_kinetic"),
+    ("friction", {"kind": "stribeck", "v_s": 1e-3}, "friction.mu_s_over_mu_k: required with kind stribeck"),
+])
+def test_spec_beyond_the_limits_is_one_line_before_any_work(block, value, message):
+    """Hypothesis: a search whose work (designs x their screening memory, entry runs) or a task
+    (distance, tolerance) beyond the documented limits (selfalign.model.design_spec), or a
+    friction law without its ratio mu_s/mu_k, is refused while the spec is read, with one line
+    naming the spec key, the value and what is allowed."""
+    data = json.loads(json.dumps(SPEC))
+    data[block] = value
+    with pytest.raises(ValueError) as info:
+        design_spec_from_dict(data, source="x.yaml")
+    text = str(info.value)
+    assert "\n" not in text and text.startswith("x.yaml: ") and message in text, text
+
+
 def test_spec_file_reads_frequency_as_period(tmp_path):
     """Hypothesis: a frequency range [f1, f2] Hz becomes the period range [1/f2, 1/f1] s, a fixed c_mu
     a range of one value, and the name defaults to the file stem."""

@@ -33,12 +33,17 @@ and the middle included), every one of ``entries`` steady-state entries into the
 (Sect. 7.1, :func:`~selfalign.analysis.positioning.positioning_grid`) must end at rest or
 accumulate, and with ``accumulation`` every one must accumulate; the sufficient condition
 of Sect. 7.3 (x_{n+1}(x_mu) < x_stick_min, eq. 59) is reported where eq. 59 applies.  The
-end positions over all entries and mu samples give x_d and the robust error
-Delta_x_d,mu = (max - min) / 2, which must not exceed the tolerance.  The process time
+end positions are bounded over the whole mu interval and every entry phase, not only at the
+samples (:func:`end_bounds`): no part rests below x_stick_min at mu_max (eq. 41, a proof; for
+a design whose entries all accumulate the bound is the range of eq. 41 over the interval), and
+the largest end is the largest sample plus the allowance the sampling gives for what lies
+between samples (:func:`phase_sup`, :func:`mu_sup`).  The middle of the bound is x_d, its
+half-width the robust error Delta_x_d,mu, which must not exceed the tolerance.  The process time
 is simulated: the part at rest on the table (x' = 0) a distance D before the strip at the
 start of the dwell (t = 0), until its first arrival within the tolerance of x_d
 (``t_arrive``; an accumulation reaches x_d only as t -> infinity, so the band is needed)
-and until the solver decides rest or accumulation (``t_rest``), at every mu sample.
+and until the solver decides rest or accumulation (``t_rest``), at every mu sample; its bound
+over the interval (:func:`worst_process_time`) must not exceed ``max_process_time``.
 
 The guarantee is as strong as the model (:data:`ASSUMPTIONS`, with the spec's effects:
 ``Design.assumptions``).
@@ -52,7 +57,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..model.design_spec import DesignSpec
+from ..model.design_spec import FRONT_SIMULATED, DesignSpec
+from ..model.errors import check_integer
 from ..model.friction import FrictionLaw, StopZone, stick_limit, stick_limits
 from ..model.profiles import (
     CASE_LABELS,
@@ -66,7 +72,7 @@ from ..progress import Progress
 from ..solvers.driver import simulate_batch
 from ..solvers.outcomes import STATUS_CODES, Status
 from ..solvers.tables import setting_method, setting_table
-from .positioning import MAX_PERIODS, positioning_grid
+from .positioning import MAX_ENTRY_PERIODS, MAX_PERIODS, MEMORY_LIMIT, positioning_bytes, positioning_grid
 from .steady_state import steady_state_grid
 from .stick_map import stick_map, stick_map_validity
 
@@ -76,8 +82,9 @@ ASSUMPTIONS = (
     "Coulomb friction, one coefficient mu on the base and c_mu mu on the strip (eq. 1)",
     "the linear friction transition of eqs. 7-9 over the part's width",
     "the exact three-phase profile (Sect. 4.4.3): jumps in y'', no jerk limit, no actuator dynamics",
-    "mu constant during a run; the mu range is checked by simulation at the mu samples and by the closed "
-    "forms at 65 values",
+    "mu constant during a run; the mu range is checked by simulation at the mu samples, between them by the "
+    "bounds of analysis.design.end_bounds (eq. 41 below, the sampling's allowance above and for the process "
+    "time), and by the closed forms at 65 values",
 )
 #: Values of mu at which the closed-form conditions are checked.
 DENSE_MU = 65
@@ -85,11 +92,12 @@ DENSE_MU = 65
 MARGIN_STEPS = np.linspace(0.0, 0.96, 49)
 #: Candidates verified per call of the engine.
 BATCH = 8
-#: Candidates of the time-error front that are simulated.
-FRONT_SIMULATED = 12
 #: Why a verified candidate is not guaranteed (the start of its ``failure`` text).
 FAILURES = ("entries that do not stop", "entries that do not accumulate", "end positions spread beyond the tolerance",
             "the process run does not end at rest", "process time beyond max_process_time")
+#: A change of the end position between adjacent entry phases above this many times the median
+#: change is a jump (an entry sticking once more or once less), not a slope (:func:`phase_sup`).
+JUMP_RATIO = 10.0
 #: Status codes of entries that end.
 _STOP = (STATUS_CODES[Status.REST], STATUS_CODES[Status.ACCUMULATION])
 
@@ -281,8 +289,11 @@ class Verification:
     (eq. 39 at that mu), ``x_stick_min`` [m, from the strip's edge, eq. 41],
     ``end_min``/``end_max`` [m, from the strip's edge], ``sufficient`` (Sect. 7.3:
     1 holds, 0 fails, -1 eq. 59 does not apply), ``t_arrive``/``t_rest`` [s] of the
-    process run, ``process_stops``.  Per candidate: ``x_d``, ``error`` [m] (robust
-    Delta_x_d over entries and mu), ``stops`` (every entry ends at every mu),
+    process run, ``process_stops``.  Per candidate: ``x_d``, ``error`` [m] (the middle and
+    half-width of the bound on the end positions over the mu interval and every entry phase,
+    :func:`end_bounds`), ``sampled_error`` [m] (half the range of the simulated ends alone),
+    ``t_worst`` [s] (bound on the process time over the mu interval, :func:`worst_process_time`),
+    ``stops`` (every entry ends at every mu),
     ``accumulates`` (every entry accumulates at every mu), ``guaranteed``, ``failure``
     (why not, "" if guaranteed); ``method``: the solver of the simulations
     (:func:`~selfalign.solvers.methods.most_exact_method`).
@@ -305,6 +316,8 @@ class Verification:
     process_stops: np.ndarray
     x_d: np.ndarray
     error: np.ndarray
+    sampled_error: np.ndarray
+    t_worst: np.ndarray
     stops: np.ndarray
     accumulates: np.ndarray
     guaranteed: np.ndarray
@@ -332,6 +345,7 @@ def verify(spec: DesignSpec, cand: Candidates, n_entries: int | None = None) -> 
     out = {key: np.full(shape, np.nan) for key in ("vbar", "frac_accumulate", "frac_stop", "frac_never_stop",
                                                   "frac_undecided", "dx_d", "x_stick_min", "end_min", "end_max",
                                                   "t_arrive", "t_rest")}
+    ends = np.full(shape + (n_entries,), np.nan)
     case = np.zeros(shape, np.int8)
     sufficient = np.full(shape, -1, np.int8)
     dims = [dimensionless(spec, cand, mu) for mu in mus]
@@ -348,6 +362,7 @@ def verify(spec: DesignSpec, cand: Candidates, n_entries: int | None = None) -> 
             for key, value in (("dx_d", grid.dx_d), ("x_stick_min", grid.x_stick_min),
                                ("end_min", grid.overshoot_min), ("end_max", grid.overshoot_max)):
                 out[key][rows, j] = value * spec.width  # L
+            ends[rows, j] = grid.overshoot * spec.width
             out["vbar"][rows, j] = grid.vbar * scale(spec, mu).unit("velocity")
     # Eq. (59)'s sufficient condition is that of the paper's model (Coulomb friction, y'' jumps);
     # under static friction nothing accumulates (README "Static and kinetic friction"); with
@@ -360,20 +375,103 @@ def verify(spec: DesignSpec, cand: Candidates, n_entries: int | None = None) -> 
                 sufficient[i, j] = sufficient_condition(profile, float(cand.c_mu[i]))
     stops = np.all((out["frac_accumulate"] + out["frac_stop"]) == 1.0, axis=1)
     accumulates = np.all(out["frac_accumulate"] == 1.0, axis=1)
-    lo = np.where(stops, np.min(np.where(stops[:, None], out["end_min"], 0.0), axis=1), np.nan)
-    hi = np.where(stops, np.max(np.where(stops[:, None], out["end_max"], 0.0), axis=1), np.nan)
+    lo, hi = end_bounds(ends, out["x_stick_min"], stops)
     x_d, error = 0.5 * (lo + hi), 0.5 * (hi - lo)
+    with np.errstate(invalid="ignore"):
+        sampled_error = np.where(stops, 0.5 * (np.max(out["end_max"], axis=1) - np.min(out["end_min"], axis=1)),
+                                 np.nan)
     process_stops = _process_runs(spec, cand, mus, dims, x_d, stops, out, methods)
+    t_worst = worst_process_time(out["t_arrive"], cand.period)
     within = error <= spec.tolerance
-    in_time = np.ones(k, bool) if spec.max_process_time is None else np.all(out["t_arrive"] <= spec.max_process_time,
-                                                                            axis=1)
+    in_time = np.ones(k, bool) if spec.max_process_time is None else t_worst <= spec.max_process_time
     wanted = accumulates if spec.accumulation else stops
     guaranteed = wanted & within & process_stops.all(axis=1) & in_time
     failure = tuple(_failure(spec, i, out, stops, accumulates, within, process_stops, in_time, sufficient)
                     for i in range(k))
     return Verification(mu=mus, case=case, sufficient=sufficient, process_stops=process_stops, x_d=x_d, error=error,
-                        stops=stops, accumulates=accumulates, guaranteed=guaranteed, failure=failure,
+                        sampled_error=sampled_error, t_worst=t_worst, stops=stops, accumulates=accumulates,
+                        guaranteed=guaranteed, failure=failure,
                         method="; ".join(sorted(methods - {""})), **out)
+
+
+def mu_sup(values: np.ndarray) -> np.ndarray:
+    """Upper bound over the mu interval of a quantity continuous in mu from its values at the
+    equally spaced mu samples (last axis, both ends included): the largest sample, or the secant
+    of two adjacent samples extended over the next cell, whichever is larger.
+
+    Why.  A function concave or linear over three adjacent samples lies, on the outer cells,
+    below the extension of the secant of the other two: on [mu_i, mu_(i+1)] below
+    v_i + max(0, v_i - v_(i-1)) and below v_(i+1) + max(0, v_(i+1) - v_(i+2)).  This is exact for
+    a linear trend (no allowance where the samples fall monotonically away from the largest) and
+    covers a smooth maximum between samples (a parabola's secants overshoot its peak); a convex
+    piece rising between samples faster than its secants is the assumption's limit, measured by
+    the dense checks of tests/test_design_guarantee.py.  The edge cells are bounded from the
+    inside.  NaN in a row gives NaN."""
+    v = np.asarray(values, dtype=float)
+    mid = v[..., 1:-1]
+    left = mid + np.maximum(mid - v[..., :-2], 0.0)
+    right = mid + np.maximum(mid - v[..., 2:], 0.0)
+    return np.maximum(v.max(axis=-1), np.maximum(left.max(axis=-1), right.max(axis=-1)))
+
+
+def phase_sup(values: np.ndarray) -> np.ndarray:
+    """Upper bound over every entry phase of the end position from its values at equally spaced
+    phases (last axis, periodic: an entry one steady period later is the same motion, Sect. 7.1).
+
+    The end position against entry phase is a sawtooth: smooth pieces and jumps where an entry
+    sticks once more or once less (near a jump a solver with a step error may put samples on
+    either side).  On a cell [s_i, s_(i+1)] a smooth piece rises above the larger sample by at
+    most the change per spacing of the cells around it (a parabola's peak between two samples:
+    a quarter of its neighbours' change; the top of a tooth: one spacing's change).  So the
+    bound of a cell is its larger sample plus the largest change of that cell and its two
+    neighbours that is not a jump, a jump being a change above :data:`JUMP_RATIO` times the
+    median change of the row (no change of the row: a cell among jumps).  A jump is not charged
+    as a slope; a smooth piece that steepens beyond ten times the median change towards the
+    largest end is the assumption's limit, measured by the dense checks of
+    tests/test_design_guarantee.py.  NaN in a row gives NaN."""
+    v = np.asarray(values, dtype=float)
+    nxt = np.roll(v, -1, axis=-1)
+    change = np.abs(nxt - v)  # cell i: [s_i, s_(i+1)]
+    with np.errstate(invalid="ignore"):
+        smooth = np.where(change > JUMP_RATIO * np.median(change, axis=-1, keepdims=True), np.nan, change)
+    local = np.fmax(np.fmax(np.roll(smooth, 1, axis=-1), smooth), np.roll(smooth, -1, axis=-1))
+    local = np.where(np.isnan(local), np.nanmax(np.where(np.isnan(v), 0.0, smooth), axis=-1, keepdims=True), local)
+    return np.max(np.maximum(v, nxt) + local, axis=-1)
+
+
+def end_bounds(ends: np.ndarray, x_stick_min: np.ndarray, stops: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(lowest, highest) end position [m past the strip's edge] of each candidate over the whole
+    mu interval and every entry phase, from ``ends`` (candidate, mu sample, entry in the order of
+    its phase) and ``x_stick_min`` (candidate, mu sample; eq. 41 with the static coefficient);
+    NaN where some entry does not stop (``stops`` False).
+
+    Lower end, a proof.  A part at rest for good sticks through the whole period, so
+    mu_s mu_bar(x) >= max |y''| (eq. 41): no end lies below x_stick_min, which falls with mu
+    (max |y''| / (mu g) does), so its value at mu_max, a sample, bounds every end at every mu.
+    An accumulating entry ends exactly there (eq. 60 = eq. 41 for y2'' >= y3''), so for a design
+    whose entries all accumulate both ends are x_stick_min at mu_max and mu_min: the range of
+    eq. 41 over the interval, no sampling involved (:func:`end_spread`).
+
+    Upper end, a stated allowance.  The stick set x >= x_stick_min is unbounded above, and an
+    energy bound on how far a part slides past it (its speed relative to the table is at most
+    (y2'' - mu g) (t2 - t1), the deceleration beyond x_stick_min grows with mu_bar - max |y''|)
+    reaches 6.9 mm past the strip's edge for smd_realistic and 10.2 mm for the cam drive, whose
+    simulated ends lie below 1.5 and 3.7 mm: no use against a tolerance.  The
+    upper end is therefore :func:`phase_sup` over the entry phases at each mu sample, then
+    :func:`mu_sup` over the mu samples.
+    """
+    lo = np.minimum(np.min(ends, axis=(1, 2)), np.min(x_stick_min, axis=1))
+    hi = mu_sup(phase_sup(ends))
+    return np.where(stops, lo, np.nan), np.where(stops, hi, np.nan)
+
+
+def worst_process_time(t_arrive: np.ndarray, period: np.ndarray) -> np.ndarray:
+    """Bound [s] on the process time of each candidate (rows) over the mu interval from its
+    values at the mu samples (columns): :func:`mu_sup`, plus one period.  The first
+    arrival falls in the period in which the part crosses the level; as mu changes the crossing
+    moves continuously within a period (covered by the secant's extension) and steps to the next
+    period where the samples need not show it (one period)."""
+    return mu_sup(t_arrive) + period
 
 
 def _process_runs(spec, cand, mus, dims, x_d, stops, out, methods) -> np.ndarray:
@@ -475,6 +573,10 @@ class Design:
         return float(np.max(self.verification.t_arrive[0]))
 
     @property
+    def t_worst(self) -> float:
+        return float(self.verification.t_worst[0])
+
+    @property
     def t_rest(self) -> float:
         return float(np.max(self.verification.t_rest[0]))
 
@@ -526,9 +628,11 @@ class Design:
             f"(slowest over the mu range {1e3 * self.vbar_min:.4g} mm/s)",
             f"process time from rest {1e3 * self.spec.distance:g} mm before the strip at t = 0: first within "
             f"{1e6 * self.spec.tolerance:g} um of x_d after {self.t_arrive:.4g} s, at rest after {self.t_rest:.4g} s "
-            f"(worst over {v.mu.size} mu samples, simulated)",
-            f"end position x_d = {1e6 * self.x_d:.4g} um past the strip's edge, error +-{1e6 * self.error:.3g} um "
-            f"over all entries and mu; x_stick_min = "
+            f"(worst over {v.mu.size} mu samples, simulated); at most {self.t_worst:.4g} s over the mu interval "
+            f"(bound)",
+            f"end position x_d = {1e6 * self.x_d:.4g} um past the strip's edge, error +-{1e6 * self.error:.4g} um "
+            f"over every entry phase and mu in the interval (bound; +-{1e6 * float(v.sampled_error[0]):.4g} um over "
+            f"the simulated entries); x_stick_min = "
             + ", ".join(f"{1e6 * x:.4g}" for x in v.x_stick_min[0]) + " um at mu = "
             + ", ".join(f"{m:.4g}" for m in v.mu),
             "Delta_x_d (eq. 39) per mu: " + ", ".join(f"{1e6 * x:.3g}" for x in v.dx_d[0]) + " um; accumulating "
@@ -540,6 +644,8 @@ class Design:
             f"in [{v.mu[0]:.4g}, {v.mu[-1]:.4g}] ends at rest" + (" by accumulation" if self.spec.accumulation else "")
             + f", within +-{1e6 * self.spec.tolerance:g} um, and the process run ends"
             + ("" if self.spec.max_process_time is None else f" within {self.spec.max_process_time:g} s")
+            + "; bounds over the mu interval and every entry phase: no end below x_stick_min(mu_max) (eq. 41), "
+            "the largest end and the process time with the sampling's allowance (analysis.design.end_bounds)"
             + f"; closed forms at {DENSE_MU} mu; robustness margin +-{100 * self.margin:.0f} % of mu",
             f"effects: {self.spec.effects()}; simulated with {v.method}",
             "assumes: " + "; ".join(self.assumptions),
@@ -787,6 +893,14 @@ def design_map(result: Design, *, refine: int = 1, entries: int = 32, progress: 
         raise ValueError(f"refine must be an integer >= 1, got {refine!r}")
     spec = result.spec
     n = spec.grid.accelerations * int(refine)
+    check_integer("entries", entries, 1)
+    need, budget = positioning_bytes(n * n * entries, 0), n * n * entries * MAX_PERIODS
+    if need > MEMORY_LIMIT or budget > MAX_ENTRY_PERIODS:
+        raise ValueError(f"a design map of (search.accelerations x refine)^2 = {n * n:,} settings x {entries:,} "
+                         f"entries "
+                         f"needs about {need / 1024**3:.3g} GiB and up to {budget:.3g} entry-periods, more than the "
+                         f"{MEMORY_LIMIT / 1024**3:g} GiB and {MAX_ENTRY_PERIODS:.0e} allowed: fewer accelerations, a "
+                         f"smaller refine or fewer entries")
     axis = spec.max_acceleration * np.arange(1, n + 1) / n
     y2, y3 = np.meshgrid(axis, axis, indexing="ij")
     cand = Candidates(np.full(y2.size, result.period), np.full(y2.size, result.stroke), y2.ravel(), y3.ravel(),

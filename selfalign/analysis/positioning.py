@@ -327,7 +327,8 @@ class PositioningGrid:
     Steady state: ``case``, ``vbar``, ``f``.  Where the mass moves forward
     (``moving``: case > 0 and vbar > 0), relative to x_mu = Delta_x
     (``dx_period``): ``x_stick_min`` (eq. 41, minus x_mu), ``overshoot_min``,
-    ``overshoot_max``, ``dx_d`` (eq. 39), ``x_d`` (minus x_mu), the outcome
+    ``overshoot_max``, ``overshoot`` (shape (..., n_entries): each entry's end minus x_mu in the
+    order of its offset s, NaN where it does not stop), ``dx_d`` (eq. 39), ``x_d`` (minus x_mu), the outcome
     fractions, ``contraction`` (median over accumulating entries) and, for each
     level p of ``levels``, the worst case over accumulating entries of the
     time to reach x_mu + p (x_stick_min - x_mu) in periods from the start
@@ -345,6 +346,7 @@ class PositioningGrid:
     x_stick_min: np.ndarray
     overshoot_min: np.ndarray
     overshoot_max: np.ndarray
+    overshoot: np.ndarray
     dx_d: np.ndarray
     x_d: np.ndarray
     frac_accumulate: np.ndarray
@@ -410,6 +412,8 @@ def positioning_grid(dt, dy, y2, y3, *, w: float, c_mu: float, n_entries: int = 
         case=ss.case.reshape(shape), vbar=ss.vbar.reshape(shape), f=ss.f.reshape(shape),
         moving=np.isin(np.arange(size), idx).reshape(shape), dx_period=scatter(runs["dx_period"]),
         x_stick_min=scatter(runs["x_stick_min_rel"]), x_d=scatter(summ["overshoot_min"] + summ["dx_d"]),
+        overshoot=scatter(np.where(np.isin(runs["status"], (ACCUMULATE, REST)), runs["overshoot"], np.nan),
+                          (int(n_entries),)),
         contraction=scatter(contraction), levels=levels,
         level_from_start=scatter(worst(lt), (nl,)),
         level_from_entry=scatter(worst(lt - runs["entry_time"][:, :, None]), (nl,)),

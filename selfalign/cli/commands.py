@@ -346,6 +346,7 @@ def design_summary(result) -> dict:
             "t1_s": float(times.t1), "t2_s": float(times.t2), "t3_s": float(times.t3),
             "case": result.case, "case_label": result.case_label, "vbar_m_s": result.vbar,
             "vbar_min_m_s": result.vbar_min, "t_arrive_s": result.t_arrive, "t_rest_s": result.t_rest,
+            "t_worst_s": result.t_worst,
             "x_d_m": result.x_d, "error_m": result.error, "margin": result.margin,
             "guaranteed": bool(result.verification.guaranteed[0]),
             "mu_samples": result.verification.mu.tolist(),

@@ -46,7 +46,7 @@ def design_content(design, design_map=None) -> tuple[dict, dict, dict]:
             "yd_ini": float(times.yd_ini)}}
         groups["performance"] = {"datasets": {
             "vbar": design.vbar, "vbar_min": design.vbar_min, "margin": design.margin, "t_arrive": design.t_arrive,
-            "t_rest": design.t_rest, "x_d": design.x_d, "error": design.error}}
+            "t_rest": design.t_rest, "t_worst": design.t_worst, "x_d": design.x_d, "error": design.error}}
         groups["verification"] = {"datasets": {k: np.asarray(getattr(design.verification, k)[0] if k != "mu"
                                                               else design.verification.mu) for k in VERIFIED}}
     if design_map is not None:

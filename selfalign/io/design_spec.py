@@ -50,6 +50,10 @@ def design_spec_from_dict(data, source: str = "<design>", name: str | None = Non
             raise DesignSpecError(f"{source}: actuator: give exactly one of frequency and period (each {{min, max}})")
         raise DesignSpecError(f"{source}: {schema_error_message(error)}")
     machine, actuator, task = data["machine"], data["actuator"], data["task"]
+    friction = data.get("friction", {})
+    if friction.get("kind") in ("static_kinetic", "stribeck") and "mu_s_over_mu_k" not in friction:
+        raise DesignSpecError(f"{source}: friction.mu_s_over_mu_k: required with kind {friction['kind']} (the ratio "
+                              f"mu_s/mu_k >= 1 of static to kinetic friction)")
     stroke_min, stroke_max = _pair(actuator["stroke"])
     try:
         period = (period_from_frequency(*_pair(actuator["frequency"])) if "frequency" in actuator
@@ -62,7 +66,7 @@ def design_spec_from_dict(data, source: str = "<design>", name: str | None = Non
             tolerance=task["tolerance"], accumulation=task.get("accumulation", False),
             objective=task.get("objective", "process_time"), max_process_time=task.get("max_process_time"),
             name=data.get("name", name or "design"), grid=DesignGrid(**data.get("search", {})),
-            friction=FrictionLaw(**data.get("friction", {})), ramp=actuator.get("ramp"),
+            friction=FrictionLaw(**friction), ramp=actuator.get("ramp"),
         )
     except ValueError as exc:
         raise DesignSpecError(f"{source}: {exc}") from None

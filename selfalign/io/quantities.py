@@ -347,7 +347,10 @@ QUANTITIES.update({
                                                 "x_d"),
     "performance/t_rest": Quantity("si_time", "worst simulated time from the start until rest or accumulation"),
     "performance/x_d": Quantity("si_length", "end position x_d past the strip's edge (middle of the end band)"),
-    "performance/error": Quantity("si_length", "half the range of the end positions over all entries and mu"),
+    "performance/error": Quantity("si_length", "half-width of the bound on the end positions over the mu interval "
+                                               "and every entry phase"),
+    "performance/t_worst": Quantity("si_time", "bound on the time until within the tolerance of x_d over the mu "
+                                               "interval"),
     "verification/mu": Quantity("number", "the mu samples"),
     "verification/case": Quantity("code", "case of Table 1 at each mu", CASE_LEGEND),
     "verification/vbar": Quantity("si_velocity", "steady average velocity vbar at each mu"),

@@ -16,17 +16,21 @@ from .friction import FrictionLaw
 from .profiles import MIN_RAMP_FRACTION
 
 OBJECTIVES = ("process_time", "robustness")
-
-
-#: Most candidates of a search (periods x strokes x accelerations^2 x c_mu): the screen keeps ~25
-#: arrays over them (~200 bytes each), so 5e6 is ~1 GB; the default grid has 921,600.
-MAX_CANDIDATES = 5_000_000
-#: Most simulated entries of a verification (max_verified x entries x mu_samples), each up to 1000
-#: periods of the exact solver (~0.1 ms at 5e7 events/s): 2e6 are minutes; the default is 61,440.
-MAX_VERIFICATION_RUNS = 2_000_000
-#: Largest task.distance in part widths (the limit of a stop zone's position,
-#: :func:`~selfalign.model.friction.check_zone_position`).
-MAX_DISTANCE_WIDTHS = 2.0**32
+#: Most designs a search grid may hold (periods x strokes x accelerations^2 x c_mu values): the
+#: closed-form screening needs about :data:`BYTES_PER_DESIGN` bytes and 4 us per design (921,600
+#: designs, the default grid of a c_mu range: 0.23 GB, 3.6 s).
+MAX_DESIGNS = 4_000_000
+#: Peak memory of the search per design (tracemalloc over the grid and its screening: 245 bytes), rounded up.
+BYTES_PER_DESIGN = 250
+#: Candidates of the time-error front that the design tool simulates besides those it verifies.
+FRONT_SIMULATED = 12
+#: Most steady-state entry runs a design may simulate (entries x mu_samples x (max_verified +
+#: FRONT_SIMULATED); the default is 256 x 5 x 60 = 76,800): each runs until the part stops or
+#: the period budget ends, up to about a millisecond under static friction.
+MAX_ENTRY_RUNS = 500_000
+#: Longest distance [m] from the part to the strip: the process run simulates every period of
+#: the approach (a run of 2 D / (vbar dt) periods; a table is metres long, not more).
+MAX_DISTANCE = 10.0
 
 
 @dataclass(frozen=True)
@@ -52,16 +56,18 @@ class DesignGrid:
         if self.mu_samples % 2 == 0:
             raise ValueError(f"search.mu_samples must be odd (the middle of the mu range is a sample), "
                              f"got {self.mu_samples}")
-        candidates = self.periods * self.strokes * self.accelerations**2 * self.c_mu
-        if candidates > MAX_CANDIDATES:
-            raise ValueError(f"search: periods x strokes x accelerations^2 x c_mu = {candidates:.3g} candidates, more "
-                             f"than the {MAX_CANDIDATES:.0e} the screen holds in memory (~200 bytes each); lower "
-                             f"search.accelerations or search.periods")
-        runs = self.max_verified * self.entries * self.mu_samples
-        if runs > MAX_VERIFICATION_RUNS:
-            raise ValueError(f"search: max_verified x entries x mu_samples = {runs:.3g} simulated entries, more than "
-                             f"the {MAX_VERIFICATION_RUNS:.0e} allowed (each up to 1000 periods; the defaults are "
-                             f"48 x 256 x 5 = 61,440); lower search.entries or search.mu_samples")
+        runs = self.entries * self.mu_samples * (self.max_verified + FRONT_SIMULATED)
+        if runs > MAX_ENTRY_RUNS:
+            raise ValueError(f"search.entries x search.mu_samples x (search.max_verified + {FRONT_SIMULATED} "
+                             f"designs of the front) = {self.entries:,} x {self.mu_samples:,} x "
+                             f"{self.max_verified + FRONT_SIMULATED:,} = {runs:,} entry runs to simulate, more than "
+                             f"the {MAX_ENTRY_RUNS:,} allowed")
+
+    def designs(self, fixed_period: bool, fixed_c_mu: bool) -> int:
+        """Designs on the grid: periods x strokes x accelerations^2 x c_mu values (one period for a
+        fixed period, one c_mu for a fixed strip; strokes count at most ``strokes``)."""
+        return ((1 if fixed_period else self.periods) * self.strokes * self.accelerations**2
+                * (1 if fixed_c_mu else self.c_mu))
 
 
 @dataclass(frozen=True)
@@ -106,13 +112,12 @@ class DesignSpec:
             check_positive("actuator.ramp", self.ramp)
         for key in ("mu", "width", "max_stroke", "max_acceleration", "distance", "tolerance", "g"):
             check_positive(key, getattr(self, key))
-        if self.distance > MAX_DISTANCE_WIDTHS * self.width:
-            limit = MAX_DISTANCE_WIDTHS * self.width
-            raise ValueError(f"task.distance must be at most 2^32 part widths ({limit:.6g} m for part.width = "
-                             f"{self.width!r} m), got {self.distance!r}")
+        if self.distance > MAX_DISTANCE:
+            raise ValueError(f"task.distance must be <= {MAX_DISTANCE:g} m (the process run simulates every period of "
+                             f"the approach), got {self.distance!r}")
         if self.tolerance >= self.distance:
-            raise ValueError(f"task.tolerance ({self.tolerance!r} m) must be smaller than task.distance "
-                             f"({self.distance!r} m): the part starts outside the band it must end in")
+            raise ValueError(f"task.tolerance must be smaller than task.distance = {self.distance!r} m (the part "
+                             f"starts outside the band it is to end in), got {self.tolerance!r}")
         if self.min_stroke is not None and not 0.0 < check_finite("min_stroke", self.min_stroke) <= self.max_stroke:
             raise ValueError(f"min_stroke must lie in (0, max_stroke = {self.max_stroke!r}], got {self.min_stroke!r}")
         delta = check_finite("mu_uncertainty", self.mu_uncertainty)
@@ -139,6 +144,11 @@ class DesignSpec:
             check_positive("max_process_time", self.max_process_time)
         if not isinstance(self.grid, DesignGrid):
             raise ValueError(f"grid must be a DesignGrid, got {type(self.grid).__name__}")
+        designs = self.grid.designs(p_low == p_high, low == high)
+        if designs > MAX_DESIGNS:
+            raise ValueError(f"search grid of {designs:,} designs (search.periods x strokes x accelerations^2 x c_mu) "
+                             f"needs about {designs * BYTES_PER_DESIGN / 1e9:.3g} GB, more than the {MAX_DESIGNS:,} "
+                             f"designs allowed ({MAX_DESIGNS * BYTES_PER_DESIGN / 1e9:g} GB)")
 
     @property
     def mu_range(self) -> tuple[float, float]:
