@@ -211,6 +211,29 @@ def test_ivp_locates_a_zone_edge_crossed_by_a_slip_that_stops_in_the_same_step()
     assert np.sum(ivp.events["kind"] == zone) == np.sum(exact.events["kind"] == zone) >= 1
 
 
+@pytest.mark.parametrize("atol", [1e-13, 1e-14, 1e-15])
+def test_ivp_ends_the_step_that_crosses_a_zone_edge_on_the_edge(atol):
+    """eqs. 7-9: mu_bar has a kink at each zone edge.  A DOP853 step that ends past an edge evaluates
+    the ODE of the far side's mu_bar in its last stages, bends its dense output there by far more than
+    rtol, and its error estimate does not see it; the crossing was located on that output.  Audit
+    scene (seed 7, 20514): a zone 1e-3 wide (c_mu 4.7), crossed six times in 3 periods: at rtol 1e-12,
+    atol 1e-14 ivp picked up 4.5e-9 in x' at one crossing and ended 2.2e-9 from the exact solver (a
+    60-digit referee agrees with exact to 6e-16).  Each crossing is now integrated again up to the
+    located edge, so the last step's stages lie before it: within 1e-12, at every atol."""
+    spec = {"profile": {"dt": 2.269274073003339, "dy": 1.2518181033535711, "y2": 3.7234355310396596,
+                        "y3": 6.056228637096872, "ramp": 2.1459036100875862e-08},
+            "friction": {"r": 1.0}, "phase": 0.0, "periods": 3,
+            "zone": {"x_mu": 0.2386737553611381, "w": 0.0010253463644218281, "c_mu": 4.731999357115376},
+            "x0": -1.1508890200431923}
+    scene = _audit_scene(spec).replace(friction=FrictionLaw())
+    exact = sa.simulate(scene, method="exact")
+    ivp = sa.simulate(scene, method="ivp", rtol=1e-12, atol=atol)
+    assert ivp.status is exact.status is sa.Status.HORIZON
+    assert abs(ivp.x_end - exact.x_end) < 1e-12 and abs(ivp.v_end - exact.v_end) < 1e-12
+    zone = int(EventKind.ZONE)
+    assert np.sum(ivp.events["kind"] == zone) == np.sum(exact.events["kind"] == zone) == 6
+
+
 def test_ivp_slips_backward_from_rest_exactly_on_x_mu():
     """A part at rest exactly on x_mu that must slip backward (into the low-friction side, tie rule
     5) was a stall ("mode chattering"): the boundary it starts on counted as crossed at the start.

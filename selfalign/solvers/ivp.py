@@ -31,10 +31,14 @@ a v_s so small that a period would need more than 1e6 such steps is refused befo
 (:data:`selfalign.solvers.methods.IVP_RTOL`, ``IVP_ATOL``).
 
 x is monotone in a slip, so a slip crosses each zone boundary at most once, and never the one it
-starts on (which is no event of it).  A step that crosses a boundary and, past x' = 0, comes back
-(the ODE of the mode goes on beyond the slip's end) shows solve_ivp no sign change of x - b; a
-slip that stops beyond a boundary it did not report is therefore integrated again up to its
-stop, where the crossing is a sign change of the last step.
+starts on (which is no event of it).  A step that ends past a boundary has evaluated the far
+side's mu_bar in its last stages; solve_ivp's error estimate does not see the kink, and the
+dense output the crossing is located on is bent by far more than rtol (4.5e-9 in x' at rtol
+1e-12 in tests/test_ivp.py).  A slip that crosses a boundary is therefore integrated again up to
+the located crossing, so that its last step ends there.  A step that crosses a boundary and, past
+x' = 0, comes back (the ODE of the mode goes on beyond the slip's end) shows solve_ivp no sign
+change of x - b; a slip that stops beyond a boundary it did not report is likewise integrated
+again up to its stop, where the crossing is a sign change of the last step.
 
 At v = 0 the mode is decided like the model (:func:`selfalign.model.friction.decide_mode`),
 at the first time (at most 64 ulps on) where it differs from the slip that just ended: a slip
@@ -300,22 +304,29 @@ class _Run:
             sol = solve_ivp(rhs, (tau_a, t_end), [x0, self.v], method=self.integrator, rtol=self.rtol,
                             atol=self.atol, max_step=self.slip_max_step, events=events, dense_output=self.dense)
             self.count(sol)
-            if sol.status != 1 or sol.t_events[0].size == 0 or t_end != tau_b:
+            if sol.status != 1 or t_end != tau_b:
                 break
-            # solve_ivp sees an event only as a sign change between step ends.  A step that carries
-            # x across a boundary and, past x' = 0, back (the ODE of this mode goes on beyond the
-            # slip's end) shows no change of x - b: the slip then ends at x' = 0 on the far side of
-            # a boundary it never reported, integrated across the kink of mu_bar.  Since x is
-            # monotone up to x' = 0, that happened iff the stop lies beyond a boundary; integrating
-            # again only up to the stop ends the last step there, so the crossing is a sign change.
-            x_stop = float(sol.y_events[0][0][0])
-            if not any(min(x0, x_stop) < b < max(x0, x_stop) for b in bounds):
-                break
-            t_end = float(sol.t_events[0][0])
+            # A step that ends past an event has evaluated the ODE of this mode beyond it, where the
+            # model no longer holds, and solve_ivp's error estimate does not see it:
+            # * past a zone boundary, mu_bar has a kink; the stages beyond it bend the step's dense
+            #   output by far more than rtol (at rtol 1e-12, 4.5e-9 in x' at one crossing of a zone
+            #   1e-3 wide with c_mu 4.7), and the crossing is located on that output;
+            # * past x' = 0, a step that carries x across a boundary and back shows no change of
+            #   x - b: the slip then ends on the far side of a boundary it never reported, integrated
+            #   across the kink.  Since x is monotone up to x' = 0, that happened iff the stop lies
+            #   beyond a boundary.
+            # Integrating again up to the event ends the last step there (with every stage on the
+            # near side), and a crossing before it is a sign change of a step.
+            first = next(i for i, te in enumerate(sol.t_events) if te.size)
+            if first == 0:
+                x_stop = float(sol.y_events[0][0][0])
+                if not any(min(x0, x_stop) < b < max(x0, x_stop) for b in bounds):
+                    break
+            t_end = float(sol.t_events[first][0])
         if sol.status == -1:
             return Reason.SOLVER_FAILED, f"solve_ivp failed in slip at period {self.p}, tau {tau_a!r}: {sol.message}"
-        if sol.status == 0 and t_end != tau_b:           # the stop, reached again without a crossing
-            sol.status, sol.t_events[0], sol.y_events[0] = 1, sol.t[-1:], sol.y[:, -1:].T
+        if sol.status == 0 and t_end != tau_b:           # the event, reached again at the end of the last step
+            sol.status, sol.t_events[first], sol.y_events[first] = 1, sol.t[-1:], sol.y[:, -1:].T
         if sol.status == 1:
             which = next(i for i, te in enumerate(sol.t_events) if te.size)
             tau_e = float(sol.t_events[which][0])
