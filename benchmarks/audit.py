@@ -31,7 +31,15 @@ Tolerances (both for the end position x and velocity v after the horizon):
   of a period last at most dt in all, so the position error grows by <= A h dt per period:
   |dx| <= C A h dt P and |dv| <= C A h after P periods, with C = :data:`MOREAU_C` = 2 for the
   reversals (a stop and a start in one step).  Zone crossings change mu continuously (eq. 9), which
-  costs O(h^2).  Errors grow beyond this only where the solution itself depends on the state more
+  costs O(h^2) in a step, but a position error dx at a crossing shifts the time the part spends on
+  each side of the zone by dx / |v|, while its friction differs by up to r |c_mu - 1|: its
+  velocity is off by r |c_mu - 1| dx / |v| more after each crossing (a zone 0.03 wide with c_mu
+  4.3 crossed at |v| ~ 0.6 turns Moreau's dx = 1e-4 into dv = 1.2e-3, seed 7, scene 89).  Where
+  the positions agree and the velocities do not, the velocity tolerance therefore adds this share,
+  with dx the position tolerance and |v| the velocity of each crossing in the reference method's
+  event log; a stick resets it (the next slip starts at a time set by the table, not the part), a
+  reversal scales it by |x'' after / x'' before| (a velocity error dv moves the reversal by
+  dv / |x'' before|).  Errors grow beyond this only where the solution itself depends on the state more
   than linearly (a graze, a stick at the friction limit, the zone's hyperbolic arcs): the tie test
   below.  The summary reports the largest |dx| / (A h dt P) measured (``moreau_ratio_max``): 0.77
   on 12,000 scenes (seeds 1 and 2; 99th percentile 0.08), on a narrow steep zone (w = 0.003,
@@ -347,7 +355,31 @@ def compare(spec, a, b, pair, sc):
     else:
         tx, tv = tight_x(spec["x0"], a["x"]), sc["tight_v"]
     ok = abs(a["x"] - b["x"]) <= tx and abs(a["v"] - b["v"]) <= tv and a["status"] == b["status"]
+    if not ok and "moreau" in pair and abs(a["x"] - b["x"]) <= tx and a["status"] == b["status"]:
+        ok = abs(a["v"] - b["v"]) <= moreau_v_tolerance(spec, pair.split("-")[0], sc)
     return "agree" if ok else "disagree"
+
+
+def moreau_v_tolerance(spec, method, sc) -> float:
+    """Moreau's velocity tolerance with the share of the zone crossings (module docstring), from the
+    event log of ``method``'s run of the scene."""
+    z = spec["zone"]
+    if z is None:
+        return sc["moreau_v"]
+    import selfalign as sa
+
+    scene = build_scene(spec).replace(record=sa.Record(events=True))
+    events = sa.simulate(scene, method=method, **(IVP_OPTIONS if method == "ivp" else {})).events
+    jump = spec["friction"].get("r", 1.0) * abs(z["c_mu"] - 1.0)
+    share = 0.0
+    for ev in events:
+        if ev["kind"] == sa.EventKind.ZONE:
+            share += jump * sc["moreau_x"] / abs(ev["v"]) if ev["v"] else math.inf
+        elif ev["kind"] == sa.EventKind.REVERSAL:
+            share *= abs(ev["acc_after"] / ev["acc_before"]) if ev["acc_before"] else math.inf
+        elif ev["kind"] == sa.EventKind.STICK:
+            share = 0.0
+    return sc["moreau_v"] + share
 
 
 def pair_results(spec, res):

@@ -241,3 +241,24 @@ def test_exact_finds_a_stick_exit_between_grid_points_of_a_fourier_profile():
     assert spec["profile"]["kind"] == "fourier"
     ref, exact = audit.run_referee(spec), audit.run_method(spec, "exact")
     assert abs(exact["x"] - ref["x"]) < 1e-12 and abs(exact["v"] - ref["v"]) < 1e-12
+
+
+def test_moreau_velocity_tolerance_carries_the_zone_crossings():
+    """Audit scene (seed 7, 89): a slip crosses a zone (w 0.03, c_mu 4.3, r 1.17) ten times.  Moreau's
+    end position is 1e-4 off, within its bound C A h dt P = 2.4e-3, and its velocity 1.2e-3 off: a
+    position error dx at a crossing changes the time spent at each friction level by dx / |v|, so
+    the velocity picks up r |c_mu - 1| dx / |v| (audit.py docstring).  C A h alone (5.3e-4) does
+    not cover that; the tolerance with the crossings' share does, and still refuses a velocity
+    beyond it."""
+    spec = audit.scene_spec(7, 89)
+    sc = audit.scales(spec)
+    exact, moreau = audit.run_method(spec, "exact"), audit.run_method(spec, "moreau")
+    dv = abs(exact["v"] - moreau["v"])
+    assert abs(exact["x"] - moreau["x"]) <= sc["moreau_x"] and dv > sc["moreau_v"]
+    tv = audit.moreau_v_tolerance(spec, "exact", sc)
+    assert dv <= tv
+    assert audit.compare(spec, exact, moreau, "exact-moreau", sc) == "agree"
+    assert audit.compare(spec, exact, {**moreau, "v": exact["v"] + 1.01 * tv}, "exact-moreau", sc) == "disagree"
+    # the uniform surface has no crossings: the tolerance is C A h
+    uniform = {**spec, "zone": None}
+    assert audit.moreau_v_tolerance(uniform, "exact", audit.scales(uniform)) == audit.scales(uniform)["moreau_v"]
