@@ -21,7 +21,7 @@ tolerance.  Survivors are ranked by a closed-form process time (distance to trav
 slowest vbar, :class:`Screen`) and verified
 with the engine, best first.
 
-Effects (issue 16).  The spec may declare static/kinetic or Stribeck friction and y'' ramps
+Effects.  The spec may declare static/kinetic or Stribeck friction and y'' ramps
 (finite jerk; candidates whose ramps do not fit are dropped and counted).  The closed forms
 above are the paper's model, so they then only rank the candidates (a heuristic); the
 guarantee and the process time are simulated with the effect (:func:`friction_at`,
@@ -59,7 +59,7 @@ import numpy as np
 
 from ..model.design_spec import FRONT_SIMULATED, DesignSpec
 from ..model.errors import check_integer
-from ..model.friction import FrictionLaw, StopZone, stick_limit, stick_limits
+from ..model.friction import FrictionLaw, StopZone, stick_limit, stick_limits, transition_slope
 from ..model.profiles import (
     CASE_LABELS,
     ThreePhaseProfile,
@@ -167,7 +167,8 @@ def ramp_at(spec: DesignSpec, mu: float) -> float:
 
 def stick_offset(spec: DesignSpec, cand: Candidates, mu: float) -> np.ndarray:
     """x_stick_min - x_mu (eq. 41, :data:`~selfalign.model.friction.stick_limits`) at ``mu``, in m."""
-    return stick_limits(np.maximum(cand.y2, cand.y3) / (mu * spec.g), spec.width, cand.c_mu)
+    rest_acceleration = scale(spec, mu).to_dimensionless(np.maximum(cand.y2, cand.y3), "acceleration")
+    return stick_limits(rest_acceleration, spec.width, cand.c_mu)
 
 
 def end_spread(spec: DesignSpec, cand: Candidates) -> np.ndarray:
@@ -212,8 +213,7 @@ def _moves_and_holds(spec: DesignSpec, cand: Candidates, mus) -> tuple[np.ndarra
     """(moves at every mu, holds at every mu, slowest vbar [m/s]; -inf where it does not move or
     hold) of the physical candidates.  The extremes of ``mus`` come first and each mu evaluates
     only the candidates still alive, so most are dropped after one or two."""
-    top = np.maximum(cand.y2, cand.y3)
-    holds = top <= cand.c_mu * float(np.min(mus)) * spec.g  # mu_bar >= max |y''| somewhere (eq. 41)
+    holds = stick_offset(spec, cand, float(np.min(mus))) < np.inf  # mu_bar >= max |y''| somewhere
     moves = holds.copy()
     vbar_min = np.where(holds, np.inf, -np.inf)
     mus = np.asarray(mus, dtype=float)
@@ -250,9 +250,9 @@ def screen(spec: DesignSpec, cand: Candidates) -> Screen:
 
 
 def slip_frequency(spec: DesignSpec, c_mu):
-    """omega = sqrt((c_mu - 1) mu g / w) in rad/s at mu_max: the frequency of the harmonic slip of
-    Sect. 7.3 (eq. 42) in the strip."""
-    return np.sqrt((c_mu - 1.0) * spec.mu_range[1] * spec.g / spec.width)
+    """omega = sqrt(b1) / T = sqrt((c_mu - 1) mu g / w) in rad/s at mu_max: the frequency of the
+    harmonic slip of Sect. 7.3 (eq. 42) in the strip (b1 with the part's width as the unit of length)."""
+    return np.sqrt(transition_slope(np.asarray(c_mu, dtype=float), 1.0)) / scale(spec, spec.mu_range[1]).T
 
 
 def slip_phase(spec: DesignSpec, cand: Candidates) -> np.ndarray:
@@ -332,7 +332,7 @@ def sufficient_condition(profile: ThreePhaseProfile, c_mu: float) -> int:
         return -1
     if not bool(stick_map_validity(0.0, profile, w=1.0, c_mu=c_mu, x_mu=0.0).valid):
         return -1
-    x_stick_min = stick_limit(profile.y2, 1.0, c_mu)  # eq. (41) with max(y2, y3) = y2
+    x_stick_min = stick_limit(profile.y2, 1.0, c_mu)  # max(y2'', y3'') = y2'' here
     return int(float(stick_map(0.0, profile, w=1.0, c_mu=c_mu, x_mu=0.0)) < x_stick_min)
 
 
@@ -364,7 +364,7 @@ def verify(spec: DesignSpec, cand: Candidates, n_entries: int | None = None) -> 
                 out[key][rows, j] = value * spec.width  # L
             ends[rows, j] = grid.overshoot * spec.width
             out["vbar"][rows, j] = grid.vbar * scale(spec, mu).unit("velocity")
-    # Eq. (59)'s sufficient condition is that of the paper's model (Coulomb friction, y'' jumps);
+    # The sufficient condition of eq. (59) is that of the paper's model (Coulomb friction, y'' jumps);
     # under static friction nothing accumulates (README "Static and kinetic friction"); with
     # another effect it is left at -1 (does not apply).
     paper_model = spec.friction.kind == "coulomb" and spec.ramp is None

@@ -1,4 +1,4 @@
-"""What finite jerk does to the paper's results (issue 16 item 1, README "Finite jerk").
+"""What finite jerk does to the paper's results (README "Finite jerk").
 
 The three-phase profile with y'' ramps of time tau at each switch
 (:class:`~selfalign.model.profiles.FiniteJerkProfile`) against the paper's (tau = 0):

@@ -45,8 +45,9 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..model.errors import check_finite, check_integer, check_positive
-from ..model.friction import FrictionLaw, StopZone, stick_limit, stick_limits
+from ..model.friction import FrictionLaw, StopZone, level_position, static_stick_limits
 from ..model.profiles import ThreePhaseProfile
+from ..model.registry import formula
 from ..progress import Progress, resolve_mode
 from ..solvers.driver import simulate_batch
 from ..solvers.methods import MethodChoice, check_accumulation_tol, resolve
@@ -130,8 +131,7 @@ def _run_chunk(args):
                         fast_forward=False, **run).x_max if m else np.zeros(0)
     frac = (np.arange(n_entries) + offset) / n_entries
     s = (vbar * dt)[:, None] * frac[None, :]
-    # eq. (41): permanent stick needs mu_s mu_bar >= max|y''|
-    xs_rel = stick_limits(np.maximum(y2, y3) / friction.ratio, w, c_mu)
+    xs_rel = static_stick_limits(np.maximum(y2, y3), friction.ratio, w, c_mu)
     lev = dx[:, None] + levels[None, :] * xs_rel[:, None]
     rep = lambda a: np.repeat(a, n_entries, axis=0)  # noqa: E731
     res = simulate_batch(table, -s.ravel(), rep(v0), profile_index=rep(np.arange(m)), x_mu=rep(dx), w=w,
@@ -248,6 +248,7 @@ class Positioning:
         return StopZone(x_mu=self.x_mu, w=self.w, c_mu=self.c_mu)
 
 
+@formula(eqs=("39",), kernel=False)
 def _summary(status, overshoot):
     """Outcome fractions, overshoot range and Delta_x_d (eq. 39) over the last axis (the entries)."""
     n = status.shape[-1]
@@ -477,7 +478,7 @@ def map_iterations(profile: ThreePhaseProfile, *, w: float, c_mu: float, x_mu: f
     level is not reached within ``max_iter`` iterations.
     """
     p = _check_levels(p)
-    fixed = x_mu + stick_limit(profile.y2, w, c_mu)
+    fixed = x_mu + level_position(profile.y2, w, c_mu)
     target = x_mu + p * (fixed - x_mu)
     out = np.full(p.size, np.nan)
     x = x_mu

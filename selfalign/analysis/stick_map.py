@@ -18,7 +18,7 @@ only when y2 >= y3 (eq. 41 uses max(y2, y3)); for y3 > y2 it lies below
 x_stick_min and is no end position (a mass stuck there slips backward in the
 y3 phase).
 
-Static friction mu_s = r mu_k (r > 1, issue 16): a mass stuck at x_n slips at t1 only if
+Static friction mu_s = r mu_k (r > 1): a mass stuck at x_n slips at t1 only if
 y2 > r mu_bar(x_n), i.e. x_n < x_s = x_mu + w (y2/r - 1)/(c_mu - 1)
 (:func:`stick_map_slip_limit`), and the slip runs against the kinetic mu_bar, so eq. (59)
 with the Coulomb constants (b1, b2, x_f) still gives x_{n+1} for x_n < x_s; from x_s on the
@@ -39,8 +39,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..model.friction import StopZone
+from ..model.friction import StopZone, level_position
 from ..model.profiles import ThreePhaseProfile
+from ..model.registry import formula
 
 
 @dataclass(frozen=True)
@@ -61,9 +62,9 @@ def stick_map_constants(profile: ThreePhaseProfile, zone: StopZone) -> StickMapC
     if zone.c_mu <= 1.0:
         raise ValueError(f"the stick map needs c_mu > 1 (a transition zone with rising friction), got {zone.c_mu!r}")
     b1 = zone.b1
-    b2 = b1 * zone.x_mu - 1.0  # eq. (42)
+    b2 = b1 * zone.x_mu - 1.0  # the constant term of mu_bar in eq. (42)
     return StickMapConstants(b1=b1, b2=b2, omega=float(np.sqrt(b1)), slip_window=profile.t2 - profile.t1,
-                             fixed_point=zone.x_mu + zone.w * (profile.y2 - 1.0) / (zone.c_mu - 1.0))  # eq. (60)
+                             fixed_point=zone.x_mu + level_position(profile.y2, zone.w, zone.c_mu))
 
 
 def _positions(x_n) -> np.ndarray:
@@ -74,6 +75,7 @@ def _positions(x_n) -> np.ndarray:
     return x_n
 
 
+@formula(eqs=("53", "54", "55"), kernel=False)
 def _offsets(x_n, c: StickMapConstants, profile: ThreePhaseProfile):
     """(d_{1,2}, d_{2,2}) of eqs. (53)-(55), erratum applied, and the phase omega (t2 - t1)."""
     d11 = x_n - c.fixed_point  # d_{1,1} of eq. (49)
@@ -81,6 +83,7 @@ def _offsets(x_n, c: StickMapConstants, profile: ThreePhaseProfile):
     return (profile.y2 + profile.y3) / c.b1 + d11 * np.cos(phase), -d11 * np.sin(phase), phase
 
 
+@formula(eqs=("59",), kernel=False)
 def stick_map(x_n, profile: ThreePhaseProfile, *, w: float, c_mu: float, x_mu: float):
     """x_{n+1}(x_n) of eq. (59), vectorised over ``x_n``.
 
@@ -120,7 +123,7 @@ def stick_map_slip_limit(profile: ThreePhaseProfile, *, w: float, c_mu: float, x
     if not ratio >= 1.0:
         raise ValueError(f"ratio (mu_s/mu_k) must be >= 1, got {ratio!r}")
     StopZone(x_mu=x_mu, w=w, c_mu=c_mu)  # validates the zone
-    return x_mu + w * (profile.y2 / ratio - 1.0) / (c_mu - 1.0)
+    return x_mu + level_position(profile.y2 / ratio, w, c_mu)
 
 
 @dataclass(frozen=True)

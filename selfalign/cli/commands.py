@@ -26,7 +26,7 @@ from ..analysis.positioning import MAX_PERIODS, positioning
 from ..analysis.steady_state import steady_state
 from ..io.design_result import design_content
 from ..io.design_spec import load_design_spec
-from ..io.hdf5 import write_h5
+from ..io.hdf5 import atomic_path, write_h5
 from ..io.recording import write_recording
 from ..io.scene_files import load_scene
 from ..io.simulation_result import simulation_recording, trajectory_content
@@ -36,6 +36,7 @@ from ..model.scene import METHODS, Scene
 from ..model.units import SIScale
 from ..solvers.driver import simulate as simulate_scene
 from ..solvers.outcomes import Status
+from .equations import markdown as equation_markdown
 
 #: ctx.meta key set by --debug (ctx.meta is shared by the group and its subcommands).
 DEBUG = "selfalign.debug"
@@ -261,6 +262,23 @@ def emit(values: dict, si: SIScale | None, as_json: bool) -> None:
         if key in in_si:
             text += f" ({in_si[key]:.6g} {SI_UNITS[KINDS[key]]})"
         click.echo(f"{key} = {text}")
+
+
+@selfalign.command(short_help="The equation index: each equation of the paper and its function.")
+@click.option("-o", "--output", type=click.Path(dir_okay=False, path_type=Path), callback=output_path,
+              help="Write the Markdown page to this file (atomically) instead of printing it.")
+@debug_option
+@reported
+def equations(output: Path | None) -> int:
+    """Print the equation index (docs/equations.md): every numbered equation of the paper the
+    package implements and the one function implementing it, then the unnumbered formulas."""
+    text = equation_markdown()
+    if output is None:
+        click.echo(text, nl=False)
+    else:
+        with atomic_path(output) as tmp:
+            tmp.write_text(text, encoding="utf-8")
+    return 0
 
 
 @selfalign.command("steady-state", short_help="Steady state, case, f and Floquet multipliers (Sects. 4.4.3, 5.1, 6.1).")

@@ -22,7 +22,8 @@ state (x_eq = x0 + acc0 / b1 = b3 / b1, d1 = -acc0 / b1, d2 = v0 / omega); writt
 way no term is the difference of two large ones, so positions keep full relative
 accuracy even for a tiny b1 or a short arc.  A STICK arc has v = 0 and x constant
 (eqs. 22-24).  SMOOTH arcs (a Fourier profile on a uniform surface) are closed form
-too, but in the profile: see :mod:`selfalign.solvers.engine.smooth`.
+too, but in the profile (:func:`smooth_step`): x'' = -y''(t) - sigma does not depend on the
+state, so x' and x are the profile's y', y integrated once and twice.
 
 Every function here is a scalar function of floats written with :mod:`math` only, so
 that the compiled event kernel (:mod:`selfalign.solvers.engine`) runs these very
@@ -42,7 +43,7 @@ ARC_NAMES = {STICK: "stick", QUADRATIC: "quadratic", HARMONIC: "harmonic",
              HYPERBOLIC: "hyperbolic", SMOOTH: "smooth"}
 
 
-@formula
+@formula(unnumbered="which closed form a slip arc takes: a case distinction, no equation")
 def slip_kind(in_zone: bool, sigma: int) -> int:
     """Arc kind of a slip in direction ``sigma`` inside (``in_zone``) or outside the zone."""
     if not in_zone:
@@ -50,7 +51,8 @@ def slip_kind(in_zone: bool, sigma: int) -> int:
     return HARMONIC if sigma > 0 else HYPERBOLIC
 
 
-@formula
+@formula(unnumbered="kappa = -b1, +b1 or 0: the coefficient b1 of eq. (42) (forward slip), its sign flipped for "
+                    "backward slip")
 def stiffness(kind: int, b1: float) -> float:
     """kappa of x'' = acc0 + kappa (x - x0) for an arc of ``kind`` (0 for stick/quadratic)."""
     if kind == HARMONIC:
@@ -60,7 +62,7 @@ def stiffness(kind: int, b1: float) -> float:
     return 0.0
 
 
-@formula
+@formula(unnumbered="the basis functions from which step builds eqs. (13)-(20) and (43)-(44)")
 def basis(kind: int, omega: float, s: float):
     """(C, S1, S2) of the arc (module docstring) after time ``s``.
 
@@ -82,7 +84,7 @@ def basis(kind: int, omega: float, s: float):
     return 0.0, 0.0, 0.0
 
 
-@formula
+@formula(eqs=("13", "14", "16", "17", "19", "20", "23", "24", "43", "44"))
 def step(kind: int, omega: float, v0: float, acc0: float, s: float):
     """Displacement x(s) - x0 and velocity v(s) of an arc started with (v0, acc0).
 
@@ -98,7 +100,7 @@ def step(kind: int, omega: float, v0: float, acc0: float, s: float):
 _S3_TERMS = 10
 
 
-@formula
+@formula(unnumbered="finite jerk is beyond the paper (its recommendation (2), Sect. 8)")
 def jerk_basis(kind: int, omega: float, s: float) -> float:
     """S3(s), the integral of S2 from 0 to s: the response of an arc to a forcing ``jerk s``.
 
@@ -122,7 +124,7 @@ def jerk_basis(kind: int, omega: float, s: float) -> float:
     return (math.sinh(x) - x) / (omega * omega * omega)
 
 
-@formula
+@formula(unnumbered="finite jerk is beyond the paper (its recommendation (2), Sect. 8)")
 def jerk_step(kind: int, omega: float, v0: float, acc0: float, jerk: float, s: float):
     """Displacement, velocity and acceleration after time ``s`` of an arc of
     x'' = acc0 + kappa (x - x0) + jerk s (a table acceleration linear in time, y'' = a - jerk s):
@@ -136,11 +138,10 @@ def jerk_step(kind: int, omega: float, v0: float, acc0: float, jerk: float, s: f
     (see kernel._jerk_arc_end)."""
     c, s1, s2 = basis(kind, omega, s)
     dx = v0 * s1 + acc0 * s2 + jerk * jerk_basis(kind, omega, s)
-    kappa = -omega * omega if kind == HARMONIC else (omega * omega if kind == HYPERBOLIC else 0.0)
-    return dx, v0 * c + acc0 * s1 + jerk * s2, acc0 + kappa * dx + jerk * s
+    return dx, v0 * c + acc0 * s1 + jerk * s2, acc0 + stiffness(kind, omega * omega) * dx + jerk * s
 
 
-@formula
+@formula(eqs=("12", "15", "18", "22", "42"))
 def acceleration(kind: int, b1: float, acc0: float, dx: float) -> float:
     """Relative acceleration x'' after a displacement ``dx`` from the arc start."""
     if kind == STICK:
@@ -148,7 +149,8 @@ def acceleration(kind: int, b1: float, acc0: float, dx: float) -> float:
     return acc0 + stiffness(kind, b1) * dx
 
 
-@formula
+@formula(unnumbered="the fundamental solution matrix of an arc, the smooth part of the monodromy matrix of "
+                    "Sect. 6.1 (method 2)")
 def fundamental_matrix(kind: int, omega: float, s: float):
     """d(x(s), v(s)) / d(x0, v0) of an arc of duration ``s``, as (m11, m12, m21, m22).
 
@@ -167,7 +169,7 @@ def fundamental_matrix(kind: int, omega: float, s: float):
     return c, s1, stiffness(kind, omega * omega) * s1, c
 
 
-@formula
+@formula(unnumbered="numerics: the smallest positive root of a quadratic, for the event times")
 def first_positive_root(a: float, b: float, c: float) -> float:
     """Smallest root t > 0 of a t^2 + b t + c = 0, or inf.
 
@@ -194,7 +196,7 @@ def first_positive_root(a: float, b: float, c: float) -> float:
     return r2 if r2 > 0.0 else math.inf
 
 
-@formula
+@formula(eqs=("21", "47"))
 def zero_velocity_time(kind: int, omega: float, sigma: int, v0: float, acc0: float) -> float:
     """First s >= 0 at which a slip arc in direction ``sigma`` reaches v = 0, or inf.
 
@@ -221,7 +223,7 @@ def zero_velocity_time(kind: int, omega: float, sigma: int, v0: float, acc0: flo
     return math.inf
 
 
-@formula
+@formula(unnumbered="the time t* an arc reaches a zone boundary (where eqs. 45-46 start), from eqs. (20) and (43)")
 def crossing_time(kind: int, omega: float, v0: float, acc0: float, delta: float) -> float:
     """First s > 0 at which the arc reaches x = x_b, with ``delta = x0 - x_b``, or inf.
 
@@ -242,3 +244,27 @@ def crossing_time(kind: int, omega: float, v0: float, acc0: float, delta: float)
         return 2.0 * math.atan(t) / omega if t < math.inf else math.inf
     t = first_positive_root(2.0 * acc0 / (omega * omega) - delta, 2.0 * v0 / omega, delta)
     return math.log1p(2.0 * t / (1.0 - t)) / omega if t < 1.0 else math.inf
+
+
+@formula(unnumbered="eq. (6) in slip integrated for any table motion y(t) on a uniform surface (mu_bar = 1): "
+                    "the paper integrates it only for piecewise-constant y''")
+def smooth_velocity(sigma: float, v0: float, s: float, yd0: float, yd1: float) -> float:
+    """Relative velocity x'(s) = v0 - sigma s - (y'1 - y'0) of a slip in direction ``sigma`` on a
+    uniform surface, a time ``s`` after its start, for any table motion (a SMOOTH arc).
+
+    The arc solves x'' = -y''(t) - sigma, so x' is v0 minus sigma s minus the change of the table
+    velocity, y'0 = y'(t0) and y'1 = y'(t0 + s).  The change y'1 - y'0 is taken first, so that a
+    short arc keeps the relative accuracy of the profile's velocities."""
+    return v0 - sigma * s - (yd1 - yd0)
+
+
+@formula(unnumbered="eq. (6) in slip integrated for any table motion y(t) on a uniform surface (mu_bar = 1): "
+                    "the paper integrates it only for piecewise-constant y''")
+def smooth_step(sigma: float, v0: float, s: float, y0: float, yd0: float, y1: float, yd1: float):
+    """Displacement x(s) - x0 and velocity x'(s) of a SMOOTH arc (:func:`smooth_velocity`): with the
+    table's y0, y'0 at the arc start and y1, y'1 a time ``s`` later,
+
+        x(s) - x0 = v0 s - sigma s^2 / 2 - (y1 - y0 - y'0 s),
+
+    the table's displacement relative to its tangent at the start taken as one term."""
+    return v0 * s - 0.5 * sigma * s * s - (y1 - y0 - yd0 * s), smooth_velocity(sigma, v0, s, yd0, yd1)

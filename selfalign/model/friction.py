@@ -4,12 +4,13 @@ Coefficients are dimensionless: the low-friction coefficient mu is the unit
 (Sect. 3.2), so the uniform surface has mu_bar = 1.  Positions in the formulas are
 relative to the start of the high-friction region, xi = x - x_mu.
 
-The scalar formulas (:func:`coefficient`, :func:`decide_mode`, :func:`stick_limit`,
-:func:`stribeck_factor`) are the only place the friction law is written; the classes
-below, :data:`stick_limits` (elementwise) and the compiled event kernel call them.
+The scalar formulas (:func:`coefficient`, :func:`transition_slope`, :func:`decide_mode`,
+:func:`level_position`, :func:`stick_limit`, :func:`static_stick_limit`, :func:`stribeck_factor`)
+are the only place the friction law is written; the classes below, :data:`stick_limits` and
+:data:`static_stick_limits` (elementwise) and the compiled event kernel call them.
 
 The field mu_bar(x) is the kinetic coefficient.  A :class:`FrictionLaw` adds what the
-paper leaves out (issue 16): a static coefficient mu_s = r mu_k (r = ``mu_s_over_mu_k``
+paper leaves out (its recommendation (3), Sect. 8): a static coefficient mu_s = r mu_k (r = ``mu_s_over_mu_k``
 >= 1, the same ratio on both sides of the stop zone, which scales both), so a stuck
 mass stays stuck while |y''| <= r mu_bar(x) and slips against mu_bar(x); and optionally
 the Stribeck (velocity-weakening) law mu(v) = mu_k + (mu_s - mu_k) exp(-(|v|/v_s)^delta)
@@ -28,7 +29,7 @@ from .errors import check_finite, check_positive
 from .registry import formula
 
 
-@formula
+@formula(eqs=("7", "8", "9"))
 def coefficient(xi: float, w: float, c_mu: float) -> float:
     """mu_bar at xi = x - x_mu for a body of width ``w`` (eqs. 7-9, mu = 1).
 
@@ -43,7 +44,15 @@ def coefficient(xi: float, w: float, c_mu: float) -> float:
     return 1.0 + (c_mu - 1.0) * (xi / w)
 
 
-@formula
+@formula(unnumbered="b1 = (c_mu - 1) / w, the slope of eq. (9), named in the text of eq. (42)")
+def transition_slope(c_mu: float, w: float) -> float:
+    """b1 = (c_mu - 1) / w: the slope of mu_bar in the transition zone (eq. 9), the stiffness of the
+    forced oscillator of eq. (42)."""
+    return (c_mu - 1.0) / w
+
+
+@formula(unnumbered="the stick condition |y''| < 1 of Sect. 3.2, stated in words after eq. (6), with the tie "
+                    "|y''| = mu_bar sticking (the set-valued Sign of eq. 2 allows it)")
 def decide_mode(a: float, mu: float) -> int:
     """Mode at zero relative velocity under table acceleration ``a`` (Sect. 3.2).
 
@@ -58,18 +67,40 @@ def decide_mode(a: float, mu: float) -> int:
     return 0
 
 
-@formula
+_BEYOND = "the Stribeck law is beyond the paper (its recommendation (3), enhanced friction models)"
+
+
+@formula(unnumbered=_BEYOND)
+def stribeck_decay(speed: float, v_s: float, delta: float) -> float:
+    """exp(-(|v| / v_s)^delta) at slip speed |v|: 1 at rest, falling to 0 for |v| >> v_s (the
+    weight of the static excess in :func:`stribeck_factor`)."""
+    return math.exp(-((speed / v_s) ** delta))
+
+
+@formula(unnumbered=_BEYOND)
 def stribeck_factor(speed: float, ratio: float, v_s: float, delta: float) -> float:
     """mu(v) / mu_k = 1 + (r - 1) exp(-(|v| / v_s)^delta) at slip speed |v| (Stribeck law).
 
     r at v = 0 (the static coefficient), decreasing to 1 (kinetic) for |v| >> v_s.
     """
-    return 1.0 + (ratio - 1.0) * math.exp(-((speed / v_s) ** delta))
+    return 1.0 + (ratio - 1.0) * stribeck_decay(speed, v_s, delta)
 
 
-@formula
+@formula(eqs=("40", "60"))
+def level_position(acceleration: float, w: float, c_mu: float) -> float:
+    """xi = x - x_mu at which the transition zone's mu_bar (eq. 9, continued as a line) equals
+    ``acceleration``: w (acceleration - 1) / (c_mu - 1).
+
+    It solves eq. (40) for max|y''|, and for y2'' it is the fixed point x_f - x_mu =
+    (b2 + y2'') / b1 - x_mu of the stick map (eq. 60).  No clamping: below 1 it lies before
+    the zone, above c_mu beyond it (:func:`stick_limit` clamps).
+    """
+    return w * (acceleration - 1.0) / (c_mu - 1.0)
+
+
+@formula(eqs=("41",))
 def stick_limit(max_acceleration: float, w: float, c_mu: float) -> float:
-    """x_stick_min - x_mu of eq. (41): where mu_bar first reaches max|y''| (eq. 40).
+    """x_stick_min - x_mu of eq. (41): where mu_bar first reaches max|y''| (eq. 40, :func:`level_position`).
 
     ``-inf`` when max|y''| <= 1 (the mass can stick anywhere) and ``+inf`` when
     max|y''| > c_mu (it can stick nowhere for good).
@@ -78,11 +109,22 @@ def stick_limit(max_acceleration: float, w: float, c_mu: float) -> float:
         return -math.inf
     if max_acceleration > c_mu:
         return math.inf
-    return w * (max_acceleration - 1.0) / (c_mu - 1.0)
+    return level_position(max_acceleration, w, c_mu)
+
+
+@formula(unnumbered="eq. (41) under static friction mu_s = r mu_k, beyond the paper (its recommendation (3), "
+                    "enhanced friction models)")
+def static_stick_limit(rest_acceleration: float, ratio: float, w: float, c_mu: float) -> float:
+    """x_stick_min - x_mu under static friction mu_s = ``ratio`` mu_k: permanent stick needs
+    r mu_bar >= max|y''| (``rest_acceleration``), so it is :func:`stick_limit` (eq. 41) of
+    max|y''| / r.  At r = 1 (the paper's Coulomb law) it is eq. (41) itself."""
+    return stick_limit(rest_acceleration / ratio, w, c_mu)
 
 
 #: :func:`stick_limit` elementwise on broadcast arrays (the design search and the positioning grid).
 stick_limits = np.vectorize(stick_limit, otypes=[float])
+#: :func:`static_stick_limit` elementwise on broadcast arrays (the positioning grid).
+static_stick_limits = np.vectorize(static_stick_limit, otypes=[float])
 
 #: Largest |x_mu| / w of a stop zone: positions are reported as x_mu + xi, and doubles near
 #: |x_mu| = 2**32 w are 2**-20 w apart, so beyond it they resolve the transition width w of
@@ -148,7 +190,7 @@ class StopZone:
     @property
     def b1(self) -> float:
         """Slope of mu_bar in the transition region, (c_mu - 1) / w (eq. 42)."""
-        return (self.c_mu - 1.0) / self.w
+        return transition_slope(self.c_mu, self.w)
 
     @property
     def x_end(self) -> float:
@@ -221,7 +263,8 @@ class FrictionLaw:
         v = np.asarray(v, dtype=float)
         if not self.stribeck:
             return np.ones_like(v)
-        return 1.0 + (self.ratio - 1.0) * np.exp(-((np.abs(v) / self.v_s) ** self.delta))
+        values = [stribeck_factor(abs(u), self.ratio, self.v_s, self.delta) for u in v.ravel().tolist()]
+        return np.asarray(values, dtype=float).reshape(v.shape)
 
     def params(self) -> dict:
         out = {"kind": self.kind}

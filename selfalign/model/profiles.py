@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import NonPhysicalProfile, check_finite, check_positive
+from .registry import formula
 
 #: The cases of Table 1 (the steady-state classification of a three-phase profile, Sect. 5).
 CASE_LABELS = {
@@ -177,12 +178,15 @@ class ThreePhaseTimes:
     feasible: np.ndarray   # False for the paper's "case 0"
 
 
+@formula(unnumbered="the Appendix's condition for real solutions of its seven constraints, stated in words: "
+                    "beyond it lies case 0 of Table 1", kernel=False)
 def three_phase_feasibility(dt, dy, y2, y3):
     """q = sqrt(8 dy (1/y2 + 1/y3)) / dt; a physical profile exists iff q <= 1."""
     k = 1.0 / np.asarray(y2, dtype=float) + 1.0 / np.asarray(y3, dtype=float)
     return np.sqrt(8.0 * np.asarray(dy, dtype=float) * k) / np.asarray(dt, dtype=float)
 
 
+@formula(eqs=("64",), kernel=False)
 def three_phase_times(dt, dy, y2, y3) -> ThreePhaseTimes:
     """Solve the seven Appendix constraints (Sect. 4.4.3) in closed form.
 
@@ -202,7 +206,7 @@ def three_phase_times(dt, dy, y2, y3) -> ThreePhaseTimes:
     """
     dt, dy, y2, y3 = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (dt, dy, y2, y3)))
     k = 1.0 / y2 + 1.0 / y3
-    q = np.sqrt(8.0 * dy * k) / dt
+    q = three_phase_feasibility(dt, dy, y2, y3)
     feasible = q <= 1.0
     with np.errstate(invalid="ignore"):
         r = np.sqrt(np.where(feasible, 1.0 - q, np.nan))
@@ -232,8 +236,8 @@ class ThreePhaseProfile(PiecewiseConstantProfile):
         if q > 1.0:
             raise NonPhysicalProfile(
                 f"no physical three-phase profile (case 0): 8*dy*(1/y2 + 1/y3) = "
-                f"{8 * dy * (1 / y2 + 1 / y3):.6g} exceeds dt^2 = {dt * dt:.6g}; "
-                f"need dy <= dt^2 / (8 (1/y2 + 1/y3)) = {dt * dt / (8 * (1 / y2 + 1 / y3)):.6g}"
+                f"{(q * dt) ** 2:.6g} exceeds dt^2 = {dt * dt:.6g}; "
+                f"need dy <= dt^2 / (8 (1/y2 + 1/y3)) = dy / q^2 = {dy / q ** 2:.6g}"
             )
         sol = three_phase_times(dt, dy, y2, y3)
         lengths = {"t1": float(sol.t1), "t2 - t1": float(sol.t2 - sol.t1), "dt - t2": float(dt - sol.t2)}
@@ -385,6 +389,8 @@ class FiniteJerkTimes:
     valid: np.ndarray      # q in (0, 1], every ramp inside its phase and y' = 0 on the plateaus
 
 
+@formula(unnumbered="finite jerk is beyond the paper (its recommendation (2), Sect. 8): the Appendix's "
+                    "constraints with linear ramps of y''", kernel=False)
 def finite_jerk_times(dt, dy, y2, y3, ramp_a, ramp_b, ramp_c) -> FiniteJerkTimes:
     """Switch times of the three-phase profile whose y'' ramps linearly over ``ramp_a`` (0 to -y2),
     ``ramp_b`` (-y2 to +y3) and ``ramp_c`` (+y3 to 0), each ramp centred on its switch time.

@@ -64,8 +64,7 @@ def sample_arcs(arcs, row, tau0, spp):
                     sig = float(arc.mode)
                     y0, yd0, _ = table_motion(row, arc.tau)
                     y1, yd1, _ = table_motion(row, arc.tau + sr)
-                    dx = arc.v * sr - 0.5 * sig * sr * sr - (y1 - y0 - yd0 * sr)
-                    vv = arc.v - sig * sr - (yd1 - yd0)
+                    dx, vv = A.smooth_step(sig, arc.v, sr, y0, yd0, y1, yd1)
                 elif arc.kind != ARC_STICK and R.data_size(row) < 0:      # a slip of period_jerk_zone
                     m = -R.data_size(row)
                     jerk = row[R.col_jerk(m, piece_at(row, arc.tau))]

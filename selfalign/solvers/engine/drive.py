@@ -50,11 +50,10 @@ from .timestepping import period_moreau
 @jit
 def prepare_member(s, row, method, acc_tol):
     """Derived constants of a member and its state at the run start (n = 0, time tau0)."""
-    s.b1 = (s.c_mu - 1.0) / s.w if s.zone else 0.0
+    s.b1 = F.transition_slope(s.c_mu, s.w) if s.zone else 0.0
     s.omega = math.sqrt(s.b1)
     s.rest_acc = row[R.REST_ACC]
-    # Permanent stick needs r mu_bar >= max|y''|: eq. (41) for max|y''| / r.
-    s.xs = F.stick_limit(row[R.REST_ACC] / s.static_ratio, s.w, s.c_mu) if s.zone else INF
+    s.xs = F.static_stick_limit(row[R.REST_ACC], s.static_ratio, s.w, s.c_mu) if s.zone else INF
     s.acc_tol = max(acc_tol, ACC_TOL_ULPS * EPS * s.w) if s.zone else acc_tol
     s.n, s.fresh, s.events, s.steps = 0, True, 0, 0
     s.sticks, s.zone_sticks, s.nh = 0, 0, 0

@@ -9,6 +9,7 @@ import math
 
 import numpy as np
 
+from ...model import arcs as A
 from ...model import friction as F
 from .. import records as R
 from ..outcomes import LOW
@@ -91,7 +92,7 @@ def _event_function(kind, row, t0, s, sign, v, s0, yd0, limit):
     y, yd, ydd = table_motion(row, t0 + s)
     if kind == STICK_LIMIT:
         return sign * ydd - limit
-    return sign * (v - sign * (s - s0) - (yd - yd0))
+    return sign * A.smooth_velocity(sign, v, s - s0, yd0, yd)
 
 
 @jit
@@ -367,7 +368,7 @@ def period_smooth(s, row, run, bnd, cross, record, buffers, scratch):
             short = False
             if not sigma * v > 0.0:
                 while k < g:
-                    moved = sigma * (v - sigma * (grid[k] - s0) - (g_yd[k] - yd0))
+                    moved = sigma * A.smooth_velocity(sigma, v, grid[k] - s0, yd0, g_yd[k])
                     if moved != 0.0:
                         short = moved < 0.0
                         break
@@ -381,7 +382,7 @@ def period_smooth(s, row, run, bnd, cross, record, buffers, scratch):
                 g_prev, p = sigma * v, s0
                 slope = -1.0 - sigma * ydd0 if sigma * v > 0.0 else 0.0
                 while k < g:
-                    g_k = sigma * (v - sigma * (grid[k] - s0) - (g_yd[k] - yd0))
+                    g_k = sigma * A.smooth_velocity(sigma, v, grid[k] - s0, yd0, g_yd[k])
                     if not g_k > 0.0:
                         break
                     if slope < 0.0:
@@ -407,10 +408,9 @@ def period_smooth(s, row, run, bnd, cross, record, buffers, scratch):
                 found = True
             d = root - s0
             y1, yd1, ydd1 = table_motion(row, tau0 + root)
-            dx = v * d - 0.5 * sigma * d * d - (y1 - y0 - yd0 * d)
+            dx, v_end = A.smooth_step(sigma, v, d, y0, yd0, y1, yd1)
             if record:
                 record_arc(arcs, s, dt, ARC_SMOOTH, n, tau0 + s0, d, xi, v, -ydd0 - sigma, NAN, 0.0, mode, LOW)
-            v_end = v - sigma * d - (yd1 - yd0)
             s.path += abs(dx)
             s.xi_max = max(s.xi_max, xi + dx)
             if xi + dx >= lowest:

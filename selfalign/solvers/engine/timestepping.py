@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import math
 
+from ...model import friction as F
 from .. import records as R
 from ..outcomes import HIGH, LOW, ZONE
 from .codes import ARC_SMOOTH, DONE, EPS
@@ -61,8 +62,8 @@ def _stribeck_speed(u, bound, ratio, v_s, delta):
     hi = u - bound
     c = hi
     for _ in range(200):
-        e = math.exp(-((c / v_s) ** delta)) if c > 0.0 else 1.0
-        g = c + bound * (1.0 + (ratio - 1.0) * e) - u
+        e = F.stribeck_decay(c, v_s, delta) if c > 0.0 else 1.0
+        g = c + bound * F.stribeck_factor(c, ratio, v_s, delta) - u
         if g == 0.0:
             return c
         if g > 0.0:
