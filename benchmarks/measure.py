@@ -233,7 +233,7 @@ DESIGN_SPEC = Path(__file__).resolve().parent.parent / "workflow" / "designs" / 
 
 
 def design_answer(spec: Path = DESIGN_SPEC, repeat: int = 3) -> dict:
-    """Seconds to a design answer (issue 15 asks for <= 10 s on 2 cores): ``selfalign design SPEC``
+    """Seconds to a design answer (target: <= 10 s on 2 cores): ``selfalign design SPEC``
     as a user runs it (a fresh process: start-up, imports, the cached kernel, the search and the
     guarantee's simulations) and ``sa.design`` in a warm process (best of ``repeat``)."""
     from selfalign import design, load_design_spec

@@ -1,4 +1,4 @@
-"""The design tool and positioning under the effects of issue 16 (README "Designing a self-aligning
+"""The design tool and positioning under the effects beyond the paper (README "Designing a self-aligning
 station"): Stribeck friction and finite jerk, simulated with the most exact method that can.
 
 Independent checks use Moreau time-stepping at a 4x finer step than the tool's fallback (or

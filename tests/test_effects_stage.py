@@ -1,4 +1,4 @@
-"""The stage "effects" (issue 16): accumulation and Delta x_d under static friction mu_s = r mu_k,
+"""The stage "effects": accumulation and Delta x_d under static friction mu_s = r mu_k,
 from the result file's contents to its figure (README "Static and kinetic friction")."""
 
 import numpy as np

@@ -1,4 +1,4 @@
-"""Finite jerk (issue 16, item 1): the three-phase profile with linear y'' ramps, its closed form,
+"""Finite jerk: the three-phase profile with linear y'' ramps, its closed form,
 the exact solver on it and the cross-checks against solve_ivp, Moreau and the paper's profile."""
 
 from __future__ import annotations

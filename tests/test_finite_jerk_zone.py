@@ -1,4 +1,4 @@
-"""Finite jerk on a stop zone (issue 16, item 1; eqs. 7-9, Sect. 7.3): the exact event-driven
+"""Finite jerk on a stop zone (eqs. 7-9, Sect. 7.3): the exact event-driven
 solver's closed-form arcs with a linear forcing (quadratic outside the zone, harmonic and
 hyperbolic in it) against solve_ivp, Moreau, the paper's piecewise-constant profile, the batch
 driver and its own dense series."""

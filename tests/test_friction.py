@@ -1,4 +1,4 @@
-"""Friction beyond the paper's Coulomb law (issue 16): static/kinetic and Stribeck friction.
+"""Friction beyond the paper's Coulomb law: static/kinetic and Stribeck friction.
 
 References are closed forms computed here (the case-1 motion of Sect. 5.1 with kinetic
 arcs and a static stick limit) and the limits in which each effect is the paper's model.

@@ -1,5 +1,5 @@
 """Moreau midpoint time-stepping (Sect. 4.1), ``simulate(scene, method="moreau")``, with the
-table impulse of each step integrated exactly (issue 11).
+table impulse of each step integrated exactly.
 
 References are closed forms computed here: the case-1 steady state of Sect. 5.1
 (eqs. 12-24) and the stick-position map (59) of Sect. 7.3 in the stop zone.

@@ -1,5 +1,5 @@
-"""The files a scientific package has: licence, citation, changelog and the typing marker
-(issue 14, item 8), each consistent with pyproject.toml."""
+"""The files a scientific package has: licence, citation, changelog and the typing marker, each
+consistent with pyproject.toml."""
 
 import re
 import tomllib

@@ -1,4 +1,4 @@
-"""The pipeline loses nothing (issue 7; README "Numerical robustness").
+"""The pipeline loses nothing (README "Numerical robustness").
 
 Snakemake runs in a temporary copy of ``Snakefile`` + ``workflow/`` (as in
 tests/test_workflow.py), on a small fixed set of targets from two stages so that each

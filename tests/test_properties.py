@@ -1,4 +1,4 @@
-"""Property-based tests over random feasible scenes (issue 7; README "Numerical robustness").
+"""Property-based tests over random feasible scenes (README "Numerical robustness").
 
 Hypothesis profiles: ``ci`` (the default; derandomized, so every run draws the same
 examples, bounded max_examples, no deadline on a loaded machine) and ``dev`` (random,
@@ -58,7 +58,7 @@ def assert_finite(traj):
 @given(scenes())
 def test_exact_and_ivp_agree(scene):
     """The exact solver and the solve_ivp baseline (rtol 1e-12, atol 1e-14) agree on the end
-    state to 1e-10 of the motion scale (issue 7: exact vs ivp at rtol 1e-10); no NaN."""
+    state to 1e-10 of the motion scale (exact vs ivp at rtol 1e-10); no NaN."""
     exact = sa.simulate(scene, "exact")
     ivp = sa.simulate(scene, "ivp", rtol=1e-12, atol=1e-14)
     assert_finite(exact)

@@ -1,4 +1,4 @@
-"""The workflow on a real SLURM cluster (issue 14, item 7).  `.ci/slurm/start-cluster.sh` turns this
+"""The workflow on a real SLURM cluster.  `.ci/slurm/start-cluster.sh` turns this
 Debian machine into a one-node cluster (it needs root); the Fig. 17 sweep in shards, its gathering,
 the Fig. 18 map it is drawn with and the figure then run through `--executor slurm` with the
 project's profile.  Deselected unless `-m` names the marker (conftest.py); `.ci/run` runs it last,

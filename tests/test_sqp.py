@@ -1,4 +1,4 @@
-"""The BLAS-free SQP of selfalign.analysis.sqp (issue 11.1): right answers on problems with a
+"""The BLAS-free SQP of selfalign.analysis.sqp: right answers on problems with a
 known solution, feasible iterates, and the same bits of the Fig. 6 optimiser under every
 BLAS kernel and thread count."""
 

@@ -1,4 +1,4 @@
-"""The Stribeck study of the stage "effects" (issue 16): vbar, accumulation and Delta x_d against
+"""The Stribeck study of the stage "effects": vbar, accumulation and Delta x_d against
 the Stribeck velocity v_s, from the result file's contents to its figure (README "Static and
 kinetic friction")."""
 

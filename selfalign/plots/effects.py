@@ -1,4 +1,4 @@
-"""Plot functions and figure builders for the effects beyond the paper (issue 16) on stopping
+"""Plot functions and figure builders for the effects beyond the paper on stopping
 and accumulation (Sect. 7).
 
 As in :mod:`selfalign.plots.accumulation`, the plot functions draw the data they are given onto

@@ -1,5 +1,5 @@
-"""Result files of the workflow stage "effects": what the friction laws beyond the paper (issue 16,
-README "Static and kinetic friction") do to vbar, stopping and accumulation (Sect. 7): static
+"""Result files of the workflow stage "effects": what the friction laws beyond the paper (README
+"Static and kinetic friction") do to vbar, stopping and accumulation (Sect. 7): static
 friction (``static_friction.h5``) and the Stribeck law (``stribeck.h5``).  Each builder
 returns the (datasets, attributes, groups) that :func:`selfalign.io.hdf5.write_h5` writes.
 """

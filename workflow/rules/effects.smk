@@ -1,4 +1,4 @@
-# Stage "effects": what the friction laws beyond the paper (issue 16) do to stopping and
+# Stage "effects": what the friction laws beyond the paper do to stopping and
 # accumulation, at the accumulation stage's zone and Fig. 17's dt, dy: static friction and the
 # Stribeck law (which also gives vbar on Fig. 11's plane).  Its figures are rules of figures.smk
 # (plot_static_friction, plot_stribeck_friction).

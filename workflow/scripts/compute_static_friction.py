@@ -1,4 +1,4 @@
-"""Accumulation and Delta x_d under static friction mu_s = r mu_k (issue 16) into results/effects/static_friction.h5."""
+"""Accumulation and Delta x_d under static friction mu_s = r mu_k into results/effects/static_friction.h5."""
 
 from selfalign.io.hdf5 import write_h5
 from selfalign.stages.common import logged, range_values

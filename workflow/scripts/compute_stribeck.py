@@ -1,4 +1,4 @@
-"""vbar, accumulation and Delta x_d under the Stribeck law against v_s (issue 16) into results/effects/stribeck.h5."""
+"""vbar, accumulation and Delta x_d under the Stribeck law against v_s into results/effects/stribeck.h5."""
 
 from selfalign.io.hdf5 import write_h5
 from selfalign.stages.common import logged, range_values
