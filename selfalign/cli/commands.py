@@ -24,6 +24,7 @@ from ..analysis.design import design
 from ..analysis.floquet import floquet
 from ..analysis.positioning import MAX_PERIODS, positioning
 from ..analysis.steady_state import steady_state
+from ..io.design_report import design_report
 from ..io.design_result import design_content
 from ..io.design_spec import load_design_spec
 from ..io.hdf5 import atomic_path, write_h5
@@ -346,7 +347,7 @@ def design_command(spec_file: Path, output: Path | None, as_json: bool) -> int:
     if as_json:
         click.echo(json.dumps(design_summary(result), indent=2))
     else:
-        click.echo(result.report())
+        click.echo(design_report(result))
     if output is not None:
         write_h5(output, *design_content(result))
         click.echo(f"wrote {output}")

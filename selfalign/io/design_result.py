@@ -18,6 +18,8 @@ from dataclasses import asdict
 
 import numpy as np
 
+from .design_report import design_report
+
 #: Per-mu arrays of a Verification stored in group ``verification``.
 VERIFIED = ("mu", "case", "vbar", "frac_accumulate", "frac_stop", "frac_never_stop", "frac_undecided", "dx_d",
             "x_stick_min", "end_min", "end_max", "sufficient", "t_arrive", "t_rest")
@@ -32,7 +34,7 @@ def design_content(design, design_map=None) -> tuple[dict, dict, dict]:
     search = dict(design.search)
     seconds = search.pop("seconds")
     attrs = {"spec": spec, "found": bool(design.found), "explanation": design.explanation,
-             "report": design.report(timed=False), "assumptions": list(design.assumptions),
+             "report": design_report(design, timed=False), "assumptions": list(design.assumptions),
              "case": int(design.case), "case_label": design.case_label if design.case else "", "search": search,
              "effects": design.spec.effects(),
              "method": "" if design.verification is None else design.verification.method}

@@ -24,6 +24,8 @@ MAX_DESIGNS = 4_000_000
 BYTES_PER_DESIGN = 250
 #: Candidates of the time-error front that the design tool simulates besides those it verifies.
 FRONT_SIMULATED = 12
+#: Values of mu at which the design tool checks the closed-form conditions.
+DENSE_MU = 65
 #: Most steady-state entry runs a design may simulate (entries x mu_samples x (max_verified +
 #: FRONT_SIMULATED); the default is 256 x 5 x 60 = 76,800): each runs until the part stops or
 #: the period budget ends, up to about a millisecond under static friction.

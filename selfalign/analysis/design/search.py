@@ -1,0 +1,269 @@
+"""The search: screen, rank, verify best first, choose; the trade-off fronts (the package docstring)."""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...model.design_spec import FRONT_SIMULATED, DesignSpec
+from ...model.profiles import (
+    CASE_LABELS,
+    ThreePhaseProfile,
+    finite_jerk_times,
+    three_phase_feasibility,
+    three_phase_times,
+)
+from ...progress import Progress
+from ..steady_state import steady_state_grid
+from .candidates import Candidates, dimensionless, scale, search_grid
+from .explanation import _explain
+from .screening import end_spread, robustness_margin, screen
+from .verification import Verification, verify
+
+#: What the guarantee assumes (printed with every design).
+ASSUMPTIONS = (
+    "rigid part that neither tips nor bounces (Sect. 3.3)",
+    "Coulomb friction, one coefficient mu on the base and c_mu mu on the strip (eq. 1)",
+    "the linear friction transition of eqs. 7-9 over the part's width",
+    "the exact three-phase profile (Sect. 4.4.3): jumps in y'', no jerk limit, no actuator dynamics",
+    "mu constant during a run; the mu range is checked by simulation at the mu samples, between them by the "
+    "bounds of analysis.design.end_bounds (eq. 41 below, the sampling's allowance above and for the process "
+    "time), and by the closed forms at 65 values",
+)
+
+
+#: Candidates verified per call of the engine.
+BATCH = 8
+
+
+@dataclass(frozen=True)
+class Design:
+    """The answer of :func:`design`: the chosen profile in SI, its performance and its guarantee.
+
+    ``found``: a guaranteed design exists on the grid; otherwise ``explanation`` says which
+    constraint binds and what would have to change, and the profile fields hold the best
+    candidate the engine checked (if any).  Profile: ``period`` [s], ``frequency`` [Hz],
+    ``stroke`` [m], ``y2``, ``y3`` [m/s^2] (magnitudes of the two acceleration phases),
+    ``c_mu``, the phase times ``t1``, ``t2``, ``t3`` [s] (zero acceleration on [0, t1),
+    -y2'' on [t1, t2), +y3'' on [t2, t3)), ``y_ini`` [m], ``yd_ini`` [m/s].  ``case``:
+    Table 1 at the nominal mu; ``vbar`` [m/s] at the nominal mu and ``vbar_min`` over the
+    range; ``margin``: robustness margin (relative mu deviation, closed forms).
+    ``verification``: the engine's results (one row); ``t_arrive``, ``t_rest`` [s]: worst
+    over the mu samples; ``x_d``, ``error`` [m] from the strip's edge; ``front_*``: the
+    trade-offs (module :func:`design`); ``search``: counts and the time taken.
+    """
+
+    spec: DesignSpec
+    found: bool
+    explanation: str
+    period: float
+    stroke: float
+    y2: float
+    y3: float
+    c_mu: float
+    case: int
+    vbar: float
+    vbar_min: float
+    margin: float
+    verification: Verification | None
+    front_time_error: dict
+    front_time_margin: dict
+    search: dict
+
+    @property
+    def frequency(self) -> float:
+        return 1.0 / self.period
+
+    @property
+    def times(self):
+        """Phase times etc. of the SI profile (the Appendix's closed form is scale-free)."""
+        return three_phase_times(self.period, self.stroke, self.y2, self.y3)
+
+    @property
+    def t_arrive(self) -> float:
+        return float(np.max(self.verification.t_arrive[0]))
+
+    @property
+    def t_worst(self) -> float:
+        return float(self.verification.t_worst[0])
+
+    @property
+    def t_rest(self) -> float:
+        return float(np.max(self.verification.t_rest[0]))
+
+    @property
+    def x_d(self) -> float:
+        return float(self.verification.x_d[0])
+
+    @property
+    def error(self) -> float:
+        return float(self.verification.error[0])
+
+    @property
+    def case_label(self) -> str:
+        return CASE_LABELS[self.case]
+
+    @property
+    def assumptions(self) -> tuple[str, ...]:
+        """:data:`ASSUMPTIONS`, with the spec's friction law and profile in place of the paper's."""
+        law, ramp = self.spec.friction, self.spec.ramp
+        friction = ASSUMPTIONS[1] if law.kind == "coulomb" else (
+            f"{self.spec.effects().split('; ')[0]}, kinetic coefficient mu on the base and c_mu mu on the strip")
+        profile = ASSUMPTIONS[3] if ramp is None else (
+            f"the three-phase profile with y'' ramps of {1e3 * ramp:g} ms at each switch (finite jerk), no actuator "
+            f"dynamics")
+        return (ASSUMPTIONS[0], friction, ASSUMPTIONS[2], profile, *ASSUMPTIONS[4:])
+
+    def profile_at(self, mu: float) -> ThreePhaseProfile:
+        """The dimensionless profile the model sees at friction coefficient ``mu`` (L = width)."""
+        cand = Candidates(*(np.array([v]) for v in (self.period, self.stroke, self.y2, self.y3, self.c_mu)))
+        return ThreePhaseProfile(*(float(a[0]) for a in dimensionless(self.spec, cand, mu)))
+
+
+
+def _pareto(cost_a, cost_b) -> np.ndarray:
+    """Indices of the points not dominated in (cost_a, cost_b), both minimised, by increasing cost_a."""
+    order = np.lexsort((cost_b, cost_a))
+    best = np.inf
+    keep = []
+    for i in order:
+        if cost_b[i] < best:
+            keep.append(i)
+            best = cost_b[i]
+    return np.array(keep, dtype=int)
+
+
+def design(spec: DesignSpec, *, progress: str = "auto") -> Design:
+    """The guaranteed three-phase design of ``spec`` (module docstring); the trade-offs:
+    ``front_time_error`` (the designs not dominated in closed-form process time and end
+    spread over mu, the first :data:`FRONT_SIMULATED` of them simulated: ``t_arrive``,
+    ``error``, ``guaranteed``) and ``front_time_margin`` (closed-form process time against
+    the robustness margin)."""
+    if not isinstance(spec, DesignSpec):
+        raise ValueError(f"design needs a DesignSpec (selfalign.io.design_spec.load_design_spec reads one), "
+                         f"got {type(spec).__name__}")
+    start = time.perf_counter()
+    cand = search_grid(spec)
+    designs = len(cand)
+    ramps_do_not_fit = 0
+    if spec.ramp is not None:  # the Appendix's constraints with ramps (scale-free, so in SI)
+        ramp = spec.ramp
+        fits = finite_jerk_times(cand.period, cand.stroke, cand.y2, cand.y3, ramp, ramp, ramp).valid
+        ramps_do_not_fit = int(np.count_nonzero(~fits & (three_phase_feasibility(cand.period, cand.stroke, cand.y2,
+                                                                                 cand.y3) <= 1.0)))
+        cand = cand.take(np.flatnonzero(fits))
+    scr = screen(spec, cand)
+    ok = np.flatnonzero(scr.ok)
+    margin = np.full(len(cand), np.nan)
+    margin[ok] = robustness_margin(spec, cand.take(ok))
+    if spec.objective == "robustness":
+        fits = ok[scr.t_estimate[ok] <= spec.max_process_time]
+        order = fits[np.lexsort((scr.t_estimate[fits], -margin[fits]))]
+    else:
+        order = ok[np.argsort(scr.t_estimate[ok], kind="stable")]
+        if spec.accumulation:
+            # Interleave the fastest candidates with the fastest whose slip window allows the
+            # sufficient condition of Sect. 7.3: the fastest often jump across the transition.
+            rank = np.arange(order.size, dtype=float)
+            short = scr.short_slip[order]
+            rank_short = np.full(order.size, np.inf)
+            rank_short[short] = np.arange(int(short.sum()))
+            order = order[np.argsort(np.minimum(rank, rank_short), kind="stable")]
+    checked, verified, chosen = [], 0, None
+    with Progress(min(order.size, spec.grid.max_verified), f"design {spec.name}", unit="candidates",
+                  mode=progress) as bar:
+        for begin in range(0, min(order.size, spec.grid.max_verified), BATCH):
+            batch = order[begin:begin + BATCH]
+            checked.append((batch, verify(spec, cand.take(batch))))
+            verified += batch.size
+            bar.advance(int(batch.size))
+            chosen = _choose(spec, checked, margin)
+            if chosen is not None and _settled(spec, chosen, order[begin + BATCH:], scr, margin):
+                break
+    front_te = _front_time_error(spec, cand, scr, ok)
+    keep = _pareto(scr.t_estimate[ok], -margin[ok])
+    front_tm = {"period": cand.period[ok][keep], "stroke": cand.stroke[ok][keep], "y2": cand.y2[ok][keep],
+                "y3": cand.y3[ok][keep], "c_mu": cand.c_mu[ok][keep], "t_estimate": scr.t_estimate[ok][keep],
+                "margin": margin[ok][keep]}
+    search = {"designs": designs, "ramps_do_not_fit": ramps_do_not_fit, "screened": int(ok.size),
+              "verified": verified, "entries": spec.grid.entries, "seconds": time.perf_counter() - start}
+    if chosen is None:
+        merged = _merge([ver for _, ver in checked]) if checked else None
+        best = checked[0][0][:1] if checked else None
+        explanation = _explain(spec, cand, scr, merged)
+        if best is None:
+            return Design(spec, False, explanation, *(math.nan,) * 5, 0, math.nan, math.nan, math.nan, None,
+                          front_te, front_tm, search)
+        index, ver = int(best[0]), _row(checked[0][1], 0)
+    else:
+        index, ver = chosen
+        explanation = ""
+    d = cand.take(np.array([index]))
+    nominal = steady_state_grid(*dimensionless(spec, d, spec.mu))
+    return Design(spec, chosen is not None, explanation, float(d.period[0]), float(d.stroke[0]), float(d.y2[0]),
+                  float(d.y3[0]), float(d.c_mu[0]), int(nominal.case[0]),
+                  float(nominal.vbar[0] * scale(spec, spec.mu).unit("velocity")), float(scr.vbar_min[index]),
+                  float(margin[index]), ver, front_te, front_tm, search)
+
+
+def _settled(spec, chosen, following, scr, margin) -> bool:
+    """True when none of the unverified candidates ``following`` can beat ``chosen``."""
+    if following.size == 0:
+        return True
+    index, ver = chosen
+    t_best = float(np.max(ver.t_arrive[0]))
+    # A run may arrive up to one period before the closed-form time (the advance within a
+    # period is not uniform), so only candidates slower by more than that are out of the race.
+    faster = scr.t_estimate[following] - spec.period[1] <= t_best
+    if spec.objective == "robustness":
+        return not np.any((margin[following] > margin[index]) | ((margin[following] == margin[index]) & faster))
+    return not faster.any()
+
+
+def _row(ver: Verification, i: int) -> Verification:
+    return Verification(**{k: (getattr(ver, k) if k in ("mu", "method") else
+                               tuple(getattr(ver, k)[i:i + 1]) if k == "failure" else getattr(ver, k)[i:i + 1])
+                           for k in Verification.__dataclass_fields__})
+
+
+def _merge(vers: list[Verification]) -> Verification:
+    return Verification(**{k: (vers[0].mu if k == "mu" else
+                               "; ".join(sorted({v.method for v in vers})) if k == "method" else
+                               sum((v.failure for v in vers), ()) if k == "failure" else
+                               np.concatenate([getattr(v, k) for v in vers]))
+                           for k in Verification.__dataclass_fields__})
+
+
+def _choose(spec, checked, margin):
+    """(grid index, one-row Verification) of the best guaranteed candidate verified, or None."""
+    best, best_key = None, None
+    for batch, ver in checked:
+        for i in np.flatnonzero(ver.guaranteed):
+            t = float(np.max(ver.t_arrive[i]))
+            key = (-margin[batch[i]], t) if spec.objective == "robustness" else (t,)
+            if best_key is None or key < best_key:
+                best, best_key = (int(batch[i]), _row(ver, int(i))), key
+    return best
+
+
+def _front_time_error(spec, cand, scr, ok) -> dict:
+    """Closed-form front of process time against the end spread over mu; its first members simulated."""
+    spread = end_spread(spec, cand.take(ok))
+    keep = _pareto(scr.t_estimate[ok], spread)
+    members = ok[keep]
+    simulated = members[np.unique(np.linspace(0, members.size - 1, min(FRONT_SIMULATED, members.size)).astype(int))] \
+        if members.size else members
+    ver = verify(spec, cand.take(simulated)) if simulated.size else None
+    sim = {"t_arrive": np.full(members.size, np.nan), "error": np.full(members.size, np.nan),
+           "guaranteed": np.zeros(members.size, bool)}
+    if ver is not None:
+        where = np.array([np.flatnonzero(members == s)[0] for s in simulated])
+        sim["t_arrive"][where] = np.max(ver.t_arrive, axis=1)
+        sim["error"][where] = ver.error
+        sim["guaranteed"][where] = ver.guaranteed
+    return {"period": cand.period[members], "stroke": cand.stroke[members], "y2": cand.y2[members],
+            "y3": cand.y3[members], "c_mu": cand.c_mu[members], "t_estimate": scr.t_estimate[members],
+            "spread": end_spread(spec, cand.take(members)), **sim}
