@@ -51,7 +51,7 @@ def test_interleaved_shard_rows_partition_the_sweep(rows, shards):
 
 @pytest.mark.parametrize("interleaved", [True, False])
 def test_gathered_fig17_is_identical_for_one_and_four_shards(stage, tmp_path, interleaved):
-    """Issue 8: the gathered fig17.h5 datasets (every field, the axes and levels) and attributes are
+    """The gathered fig17.h5 datasets (every field, the axes and levels) and attributes are
     bit-for-bit the same whether the sweep is computed in 1 or in 4 shards (interleaved as in
     the workflow, or contiguous), through HDF5 files as in the stage; 4 shards of 5 rows
     include an empty one in neither layout but uneven ones in both."""
@@ -112,7 +112,7 @@ def planned_jobs(workdir, *targets):
 
 
 def test_changing_one_study_reruns_that_study_only(workdir):
-    """Issue 12: each rule gets only its own settings, so changing the Fig. 18 map's point count
+    """Each rule gets only its own settings, so changing the Fig. 18 map's point count
     reruns the Fig. 18 map alone (not the Fig. 17 shards), and changing the Fig. 17 entries
     reruns the Fig. 17 shards and their gather alone.  Run on a tiny sweep in a copy of the
     workflow."""

@@ -1,5 +1,5 @@
 """The batched form of the driver (selfalign.simulate_batch) against the scalar one and the
-closed-form steady state (Sects. 3.2, 3.3, 5.1, 7; issues 11 and 12: one engine, so a batch
+closed-form steady state (Sects. 3.2, 3.3, 5.1, 7; one engine, so a batch
 and one trajectory give the same numbers)."""
 
 import numpy as np
@@ -40,7 +40,7 @@ def batch_of(scenes, **horizon):
 
 @pytest.mark.parametrize("horizon", [{"until": "periods", "periods": 25}, {"until": "rest", "max_periods": 300}])
 def test_batch_and_scalar_are_bit_identical_on_random_scenes(horizon):
-    """Issues 11 (3) and 12: on 2000 random scenes (uniform and stop zone; every outcome:
+    """On 2000 random scenes (uniform and stop zone; every outcome:
     horizon, rest, accumulation, never stops) one batch call and one scalar call per scene run
     the same compiled driver, so statuses, reasons, end times, event counts and end states are
     identical bit for bit (the issue asks for 1e-12; the engine gives equality), and
@@ -59,7 +59,7 @@ def test_batch_and_scalar_are_bit_identical_on_random_scenes(horizon):
 
 
 def test_tiny_zone_slope_keeps_full_accuracy():
-    """Issue 11 (3): as b1 = (c_mu - 1) / w -> 0 the zone friction tends to 1 and the motion to
+    """As b1 = (c_mu - 1) / w -> 0 the zone friction tends to 1 and the motion to
     the uniform one, linearly: x(c_mu) - x_uniform = K (c_mu - 1) + O((c_mu - 1)^2).  Positions
     are advanced about the arc start (eq. 43 rewritten, selfalign.model.arcs), not about the
     oscillation centre -y''/b1, so the measured slope K is the same at c_mu - 1 = 1e-9 and

@@ -60,7 +60,7 @@ def test_shard_rows_partition_the_map(rows, shards):
 
 
 def test_gathered_map_is_identical_for_one_and_four_shards(tmp_path):
-    """Issue 8: the gathered HDF5 datasets (case, vbar, f, vbar_simulated and the axes) are
+    """The gathered HDF5 datasets (case, vbar, f, vbar_simulated and the axes) are
     bit-for-bit the same whether the map is computed in 1 or in 4 shards (the stage's steps,
     through HDF5 files)."""
     dt, dy = 0.072, 0.021

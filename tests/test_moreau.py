@@ -102,7 +102,7 @@ def test_implicit_step_fixed_point_equals_soft_threshold():
 
 
 def test_table_impulses_are_the_exact_integral_of_the_acceleration():
-    """Issue 11 (2): each step's impulse is int y'' dt over [t_k, t_k + h] in closed form: equal
+    """Each step's impulse is int y'' dt over [t_k, t_k + h] in closed form: equal
     to y'(t_k + h) - y'(t_k) (to 4 ulp of max |y'| + max |y''| t: the reference subtracts two
     velocities, each rounded and evaluated at a rounded time t), y'' h inside a piece exactly,
     and summing to 0 over a period (y' periodic) to 16 ulp of the velocity swing, for any phase."""
@@ -125,7 +125,7 @@ def test_table_impulses_are_the_exact_integral_of_the_acceleration():
 
 
 def test_a_phase_shorter_than_the_step_is_not_missed():
-    """Issue 11 (2): a case-1 profile whose y2'' phase lasts 0.13 h at h = dt / 1000 (uniform
+    """A case-1 profile whose y2'' phase lasts 0.13 h at h = dt / 1000 (uniform
     surface, from rest, until rest).  Sampling y'' at step midpoints never saw that phase and
     reported "never stops, no net progress" at x0; with the exact table impulse Moreau walks
     forward with the exact solver's net advance per period, to O(h): within h times the table
@@ -142,7 +142,7 @@ def test_a_phase_shorter_than_the_step_is_not_missed():
 
 
 def test_error_at_fixed_step_grows_linearly_not_quadratically():
-    """Issue 11 (2): with y2'' = y3'' = 2000 (dt = 1, dy = 0.084) midpoint sampling left a net
+    """With y2'' = y3'' = 2000 (dt = 1, dy = 0.084) midpoint sampling left a net
     table impulse of up to h |jump| per period, so the mass drifted like N^2 h max|y''| (error
     1.3e3 after 50 periods at h = dt/1000).  With the exact impulse the table velocity is
     periodic and the error at fixed h grows at most linearly in N: from 50 to 500 periods by

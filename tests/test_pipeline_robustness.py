@@ -138,7 +138,7 @@ def test_malformed_config_stops_before_any_job(workdir, old, new, keys):
 
 
 def test_bad_command_line_override_is_named(workdir):
-    """Issue 11.4: a bad value given with --config is reported as that override (not as the
+    """A bad value given with --config is reported as that override (not as the
     config file, which is fine), before any job."""
     rc, out = snakemake(workdir, "-c2", *TARGETS, "--config", "figures={dpi: -1}")
     assert rc != 0
@@ -148,7 +148,7 @@ def test_bad_command_line_override_is_named(workdir):
 
 
 def test_bad_solver_option_in_a_scene_stops_before_any_job(workdir):
-    """Issue 11.4: a scene's solver options are checked when the scene is loaded, so a bad one
+    """A scene's solver options are checked when the scene is loaded, so a bad one
     stops the run (here: a Moreau step that needs 1e300 steps per period) before any job,
     naming the scene file, instead of failing inside the simulation job."""
     scene = workdir / "workflow/scenes/polynomial.yaml"

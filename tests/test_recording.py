@@ -183,7 +183,7 @@ def test_heavy_libraries_load_lazily():
 
 
 def test_recording_id_follows_the_content(tmp_path):
-    """Issue 11.1: two writes of the same recording carry the same recording id (derived from the
+    """Two writes of the same recording carry the same recording id (derived from the
     content, not random), and any other value, log text or period gives another id."""
     t, series = _series(10)
     logs = {"events": LogEntries(t[:1], ["a"], ["INFO"])}

@@ -24,7 +24,7 @@ def test_import_selfalign_loads_no_heavy_module(statement):
     """`import selfalign` loads nothing but the package (its names load their module on first
     use), and the model and closed forms load numpy only: the compiled kernel (numba,
     llvmlite), plotting, recording, HDF5, scipy, YAML parsing and Snakemake load where they
-    are used (issues 8 and 12: the library imports fast)."""
+    are used (the library imports fast)."""
     code = f"import sys; {statement}; print(' '.join(sorted(m for m in sys.modules if '.' not in m)))"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     loaded = set(out.split())
@@ -85,8 +85,8 @@ def test_slurm_profile_heavy_rule_resources_and_unknown_rules(workdir):
 
 def test_benchmarks_run_tiny_structure():
     """Every benchmark runs in a tiny configuration and the table has one row per measurement;
-    the engine and the minimal compiled reference loop end in the same states (Issue 12:
-    bit-identical on these scenes)."""
+    the engine and the minimal compiled reference loop end in the same states
+    (bit-identical on these scenes)."""
     report = measure.run(tiny=True)
     assert {"platform", "cpu", "cores", "python", "numpy"} <= set(report["machine"])
     (row,) = report["exact_vs_moreau"]

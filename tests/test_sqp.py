@@ -90,7 +90,7 @@ print(json.dumps([float(v).hex() for v in [opt.f, *opt.profile.cos_coeffs, *opt.
 
 @pytest.mark.blas
 def test_fourier_optimum_is_the_same_bits_under_every_blas_kernel():
-    """Issue 11.1: the Fig. 6 optimiser (its first 8 iterations) ends at the same bits with the
+    """The Fig. 6 optimiser (its first 8 iterations) ends at the same bits with the
     machine's own OpenBLAS kernel and with Prescott, single- and double-threaded.  The SciPy
     SLSQP version it replaces did not: f = 0x1.213b1029bd06dp-11 (AVX-512 kernel) against
     0x1.213b2a09c45a1p-11 (Prescott) after the same 8 iterations."""

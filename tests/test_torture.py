@@ -1,4 +1,4 @@
-"""Issue 7: hard cases stay numerically stable (README, "Numerical robustness").
+"""Hard cases stay numerically stable (README, "Numerical robustness").
 
 One test per hazard.  The exact solver must give the right answer, checked against a
 closed form, an invariant or an exact rational reference (:func:`rational_reference`:
