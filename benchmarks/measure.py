@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 import reference
 
-from selfalign.analysis.positioning import positioning_grid
+from selfalign.analysis.positioning import MEMORY_LIMIT, positioning_bytes, positioning_grid
 from selfalign.model.friction import StopZone, Uniform
 from selfalign.model.profiles import ThreePhaseProfile
 from selfalign.model.scene import Scene
@@ -219,13 +219,16 @@ def fig17_sweep(n: int = 201, entries: int = 128, processes: int = 2) -> dict:
     setting to their outcome, at most 1000 periods) over ``processes`` worker processes."""
     y = np.linspace(0.5, 2.5, n)
     y2, y3 = np.meshgrid(y, y, indexing="ij")
+    # In row shards that each fit positioning's memory limit, as the pipeline's shards do.
+    shards = -(-positioning_bytes(y2.size * entries, 2) // MEMORY_LIMIT)
+    rows = np.array_split(np.arange(n), shards)
     start = time.perf_counter()
-    grid = positioning_grid(1.0, 0.084, y2, y3, w=0.05, c_mu=2.5, n_entries=entries, levels=(0.99, 0.999),
-                            processes=processes)
+    grids = [positioning_grid(1.0, 0.084, y2[r], y3[r], w=0.05, c_mu=2.5, n_entries=entries, levels=(0.99, 0.999),
+                              processes=processes) for r in rows]
     seconds = time.perf_counter() - start
-    moving = int(grid.moving.sum())
-    return {"n": n, "entries": entries, "processes": processes, "moving": moving,
-            "trajectories": moving * entries, "events": int(grid.events), "seconds": seconds}
+    moving = sum(int(g.moving.sum()) for g in grids)
+    return {"n": n, "entries": entries, "processes": processes, "shards": shards, "moving": moving,
+            "trajectories": moving * entries, "events": sum(int(g.events) for g in grids), "seconds": seconds}
 
 
 #: The design spec of the README's worked example ("Designing a self-aligning station").
