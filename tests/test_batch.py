@@ -160,6 +160,27 @@ def test_budget_is_reported_not_hung():
     assert "max_events" in short.message(0)
 
 
+@pytest.mark.parametrize("fast_forward", [False, True])
+@pytest.mark.parametrize("v0", [0.0, 1e300])
+def test_overflow_ends_at_the_last_finite_state(fast_forward, v0):
+    """Principle: extreme scales end with a clear status, never a silent inf.  A profile of
+    y'' = +-3e307 walks back by the same d every period (a uniform surface, Sect. 3.3), so x
+    leaves the floats in period N = floor(DBL_MAX / |d|) (counting from 0): the run is an ERROR
+    with reason NONFINITE at the start of that period, x = N d, whether the engine steps period
+    by period, advances to the horizon in one call or skips repeating periods (fast-forward)."""
+    profile = sa.PiecewiseConstantProfile([0.0, 0.5, 1.0], [3e307, -3e307], 0.0, 0.0)
+    one = simulate_batch(profile, 0.0, v0=v0, until="periods", periods=1, fast_forward=False)
+    two = simulate_batch(profile, 0.0, v0=v0, until="periods", periods=2, fast_forward=False)
+    d = float(two.x_end[0] - one.x_end[0])     # the steady walk from the second period on
+    assert d < 0.0 and np.isfinite(d)
+    res = simulate_batch(profile, 0.0, v0=v0, until="periods", periods=10_000, fast_forward=fast_forward)
+    assert res.statuses()[0] is Status.ERROR and res.reason[0] == Reason.NONFINITE
+    n = int(res.period_end[0])
+    assert np.isfinite(res.x_end[0]) and np.isfinite(res.v_end[0])
+    assert n == int(np.floor((np.finfo(float).max - abs(one.x_end[0])) / -d)) + 1
+    assert res.x_end[0] == pytest.approx(one.x_end[0] + (n - 1) * d, rel=1e-12)
+
+
 @pytest.mark.parametrize("kwargs, match", [
     ({"phase": 1.0}, "phase"),
     ({"x0": np.nan}, "x0"),

@@ -101,7 +101,7 @@ def simulate(scene: Scene, method: str | None = None, **options) -> Trajectory:
     if record.dense or record.events or record.arcs:
         arcs, events, samples = _recorded_run(K.RECORDED_RUNS[prep.code], members, (members,) + prep.args, prep.steps)
     else:
-        call(K.MEMBER_RUNS[prep.code], members, *prep.args, _hist(), *_no_recording())
+        call(K.member_run(prep.code, members), members, *prep.args, _hist(), *_no_recording())
     return trajectory(scene, method, prep.options, prep.code, prep.row, members[0], prep.origin, arcs, events,
                        samples, time.process_time() - cpu0)
 
@@ -321,7 +321,7 @@ def simulate_batch(profiles, x0, v0=0.0, phase=0.0, *, profile_index=None, surfa
     run = _run_settings(until_code, total, options.get("max_events", 2**62), int(max_cycle),
                         options["accumulation_tol"], bool(fast_forward), options.get("iteration") == "fixed_point",
                         options.get("fp_tol", 0.0), options.get("fp_max_iter", 1))
-    call(K.MEMBER_RUNS[table.code], members, table.rows, run, relative, crossings, _hist(int(max_cycle)),
+    call(K.member_run(table.code, members), members, table.rows, run, relative, crossings, _hist(int(max_cycle)),
          *_no_recording())
     if method == "moreau":
         options = {**options, "h": float(table.rows[0, R.MOREAU_STEP])}

@@ -8,14 +8,16 @@ Layout
 ------
 * :mod:`.codes`: stepper results, reasons, event and arc kinds (plain ints, no numba);
 * :mod:`.compiled`: the compilation settings and arrays passed without reference counting;
-* :mod:`.rows`: reading a profile row (the one place that knows the row layout of
-  :mod:`selfalign.solvers.records`);
+* profile rows are read through the column accessors of :mod:`selfalign.solvers.records`
+  (``data_size``, ``col_break``, ``col_level``, ...), the one place that knows the row layout;
 * :mod:`.field`: the friction field (eqs. 7-9) and stick outcomes every stepper shares;
 * :mod:`.recording`: arcs, events and samples of a recorded run;
 * the steppers, one module each: :mod:`.piecewise` (exact, piecewise-constant profiles),
   :mod:`.smooth` (exact, Fourier and finite-jerk profiles on a uniform surface),
   :mod:`.jerk_zone` (exact, finite-jerk profiles on a stop zone), :mod:`.timestepping` (Moreau);
-* :mod:`.drive`: the driver loop, the outcome decisions and the entry points;
+* :mod:`.drive`: the driver loop and the outcome decisions;
+* :mod:`.entries`: the entry points Python calls, one per method (and one per specialisation, such
+  as the piecewise stepper for members on a uniform surface), and the stepper registration;
 * :mod:`.python_stepper`: the driver's decisions for a stepper written in Python (ivp);
 * :mod:`.dense`: dense output of the recorded arcs.
 
@@ -28,36 +30,49 @@ zone, else x0), so that x_mu = 1e6 costs no accuracy in the zone; time is (perio
 
 The stepper contract
 --------------------
-A stepper advances one member by one period.  It is a compiled function
+A stepper advances one member by whole periods.  It is a compiled function
 
-    ``period_<name>(s, row, run, bnd, cross, record, buffers, scratch) -> code``
+    ``period_<name>(s, row, run, bnd, cross, record, buffers, scratch, periods[, uniform]) -> code``
 
 * ``s``: the member record.  On entry the state at the period boundary (n, tau0): ``s.xi``,
   ``s.v``, ``s.mode`` (-1, 0, +1: backward slip, stick, forward slip) and the derived constants
   :func:`.drive.prepare_member` set (``s.b1``, ``s.omega``, ``s.rest_acc``, ``s.xs``, ...).
-* ``row``: the profile row (:mod:`.rows` reads it); ``run``: the run settings record
+* ``row``: the profile row; ``run``: the run settings record
   (:data:`~selfalign.solvers.records.RUN_DTYPE`: horizon code ``until``, ``max_events``, the
   Moreau iteration options); ``bnd``, ``cross``: the boundaries whose first crossings are
   recorded (:func:`.field.record_crossings`) and their records; ``record``: a compile-time
   constant, whether arcs, events and samples are recorded into ``buffers`` (arcs, events,
   samples, sample steps; :mod:`.recording`); ``scratch``: the stepper's own work arrays (what
   its ``scratch_<name>`` function allocated once per run; empty for most).
+* ``periods`` (>= 1): how many periods the stepper may advance before it returns.  The driver
+  asks for more than one only where it decides nothing at the period boundaries in between (a
+  run to a fixed horizon that skips nothing), so that a stepper which loops over them keeps its
+  state in registers; a stepper may always advance just one (the driver calls again).
+* ``uniform`` (a stepper with a uniform-surface entry point in
+  :data:`.entries.UNIFORM_MEMBER_RUNS` only): a compile-time constant, True where every member
+  is on a uniform surface, so that the stepper's loops carry no zone code; it
+  passes ``zone`` (False, or ``s.zone``) to :func:`.field.friction_at` and
+  :func:`.field.region_of`.
 
-It returns :data:`.codes.DONE` when the period is complete, with the state at (n + 1, tau0)
-written back (``s.xi``, ``s.v``, ``s.mode``, ``s.n = n + 1``) and the period's running totals
-(:func:`.field.save_period`: events, path, largest x, displacement and its extremes, regions
-visited), which the driver's cycle search and fast-forward read.  It reports an event by:
-counting it in ``s.events`` (the event budget ``max_events`` is checked against it), calling
-:func:`.field.on_stick` at every stick (which decides REST, ACCUMULATION and FIRST_STICK from
-the model's stick rule), :func:`.field.record_crossings` when a boundary may have been
-crossed, and :func:`.recording.record_event` / :func:`.recording.record_arc` if ``record``.  It
-stops inside a period by returning a ``STOP_*`` code through :func:`.field.stop_at` (the state
-and time where it stopped): ``STOP_REST``, ``STOP_ACCUMULATION``, ``STOP_FIRST_STICK`` (from
-:func:`.field.on_stick`), ``STOP_BUDGET`` (``max_events`` reached) or ``STOP_STALL`` (more than
-:data:`~selfalign.solvers.outcomes.STALL_EVENTS` zero-length events in a row).  A failure of
-the arithmetic needs no code: the driver checks that x and v are finite after every period
-and ends the run with reason NONFINITE at the last finite state.  A stepper never decides an
-outcome itself, never allocates, and keeps the tie rules below.
+It returns :data:`.codes.DONE` when the periods asked for are complete, with the state at the
+boundary reached written back (``s.xi``, ``s.v``, ``s.mode``, ``s.n``) and the running totals of
+the last period (:func:`.field.save_period`: events, path, largest x, displacement and its
+extremes, regions visited), which the driver's cycle search and fast-forward read.  It reports
+an event by: counting it in ``s.events`` (the event budget ``max_events`` is checked against
+it), calling :func:`.field.on_stick` at every stick (which decides REST, ACCUMULATION and
+FIRST_STICK from the model's stick rule), :func:`.field.record_crossings` when a boundary may
+have been crossed, and :func:`.recording.record_event` / :func:`.recording.record_arc` if
+``record``.  It stops inside a period by returning a ``STOP_*`` code through
+:func:`.field.stop_at` (the state and time where it stopped; a stepper that advances several
+periods per call uses :func:`.field.stop_in_period`, which also sets ``s.n``): ``STOP_REST``,
+``STOP_ACCUMULATION``, ``STOP_FIRST_STICK`` (from :func:`.field.on_stick`), ``STOP_BUDGET``
+(``max_events`` reached) or ``STOP_STALL`` (more than :data:`~selfalign.solvers.outcomes.STALL_EVENTS`
+zero-length events in a row).  A failure of the arithmetic: the driver checks that x and v are
+finite after every call and ends the run with reason NONFINITE at the state the call started
+from; a stepper that advances several periods per call checks at every period boundary itself
+and returns ``STOP_NONFINITE`` through :func:`.field.stop_nonfinite` with the state at the start
+of the period that failed.  A stepper never decides an outcome itself, never allocates, and
+keeps the tie rules below.
 
 A new stepper (several parts, planar motion) is a module with its ``period_<name>`` function,
 a method code in :mod:`selfalign.solvers.records` and one line in :func:`.drive.step`, the

@@ -12,6 +12,7 @@ from ..outcomes import EventKind, Reason
 
 INF = math.inf
 EPS = 2.0 ** -52
+LARGEST = 1.7976931348623157e308         # the largest finite float
 NAN = math.nan
 
 # Reason codes as plain ints (compile-time constants for numba).
@@ -28,8 +29,10 @@ REASON_STALL = int(Reason.STALL)
 REASON_WALK_BACKWARD = int(Reason.WALK_BACKWARD)
 REASON_WALK_FORWARD = int(Reason.WALK_FORWARD)
 
-# Stepper results: DONE (the period is complete) or why the stepper stopped inside it.
-DONE, STOP_REST, STOP_ACCUMULATION, STOP_FIRST_STICK, STOP_BUDGET, STOP_STALL = 0, 1, 2, 3, 4, 5
+# Stepper results: DONE (the periods asked for are complete) or why the stepper stopped inside one
+# (STOP_NONFINITE: x or v stopped being finite; the state is the last finite one, at the start of
+# that period).
+DONE, STOP_REST, STOP_ACCUMULATION, STOP_FIRST_STICK, STOP_BUDGET, STOP_STALL, STOP_NONFINITE = 0, 1, 2, 3, 4, 5, 6
 
 
 # Event kinds of the event log (:class:`~selfalign.solvers.outcomes.EventKind`).

@@ -1,6 +1,6 @@
 """The driver: one loop for every stepper and every member.  It owns the horizon, the outcome
 decisions (REST, ACCUMULATION, NEVER_STOPS, HORIZON, ERROR) and the fast-forward of repeating
-periods; a stepper advances one member by one period (the contract: :mod:`selfalign.solvers.engine`).
+periods; a stepper advances one member by whole periods (the contract: :mod:`selfalign.solvers.engine`).
 """
 
 from __future__ import annotations
@@ -19,6 +19,7 @@ from .codes import (
     DONE,
     EPS,
     INF,
+    LARGEST,
     NAN,
     REASON_ACCUMULATION,
     REASON_BOUNDED,
@@ -35,6 +36,7 @@ from .codes import (
     STOP_ACCUMULATION,
     STOP_BUDGET,
     STOP_FIRST_STICK,
+    STOP_NONFINITE,
     STOP_REST,
     STOP_STALL,
 )
@@ -77,7 +79,7 @@ def start_mode(s, a, until, moreau, holds_scale):
     if s.v != 0.0:
         s.mode = 1 if s.v > 0.0 else -1
         return DONE
-    mu = friction_at(s, s.xi)
+    mu = friction_at(s, s.zone, s.xi)
     s.mode = 0 if moreau else F.decide_mode(a, s.static_ratio * mu)
     holds = holds_scale[0] * mu * s.static_ratio >= holds_scale[1] if moreau else holds_for_good(s, mu)
     if s.mode == 0 and holds:
@@ -172,9 +174,19 @@ def _verdict(s, region, advance):
 
 
 @jit
+def _finite_cycles(xi, advance, cycles):
+    """How many of ``cycles`` cycles of ``advance`` keep x finite (two cycles of margin: a walk
+    that leaves the floats is simulated normally to its last finite state, reason NONFINITE)."""
+    if math.isfinite(xi + cycles * advance):
+        return cycles
+    return max(0, int((LARGEST - abs(xi)) / abs(advance)) - 2)
+
+
+@jit
 def _skippable(s, region, advance, lo, hi, cycles):
-    """How many of ``cycles`` repeats keep the mass in its region of constant friction
-    (one cycle of margin: the following cycle is simulated normally)."""
+    """How many of ``cycles`` repeats keep the mass in its region of constant friction and x
+    finite (one cycle of margin: the following cycle is simulated normally)."""
+    cycles = _finite_cycles(s.xi, advance, cycles)
     if not s.zone or advance == 0.0:
         return cycles
     if region == LOW and advance > 0.0:
@@ -248,6 +260,8 @@ def finish_run(s, code, reason, until):
             reason = REASON_MAX_EVENTS
         elif code == STOP_STALL:
             reason = REASON_STALL
+        elif code == STOP_NONFINITE:
+            reason = REASON_NONFINITE
         elif until == R.UNTIL_PERIODS:
             reason = REASON_PERIODS
         elif s.zone and s.xi_max >= 0.0:
@@ -288,18 +302,18 @@ def _begin_none(s, row, scratch):
     return 0.0, (scratch[0, :0], scratch[1, :0], scratch[2, :0])
 
 
-def step(method, s, row, run, bnd, cross, record, buffers, scratch):
+def step(method, s, row, run, bnd, cross, record, buffers, scratch, periods, uniform):
     """Advance member ``s`` one period with the stepper of ``method`` (the dispatch of the stepper
     contract, :mod:`selfalign.solvers.engine`).  Compiled, specialised on the method (:func:`_step`),
     so that a run compiles only its own stepper; a recorded run calls the piecewise stepper rather
     than inlining it (half the compile time, where the recording sets the speed anyway)."""
     if method == R.EXACT_PIECEWISE:
-        return period_piecewise(s, row, run, bnd, cross, record, buffers, scratch)
+        return period_piecewise(s, row, run, bnd, cross, record, buffers, scratch, periods, uniform)
     if method == R.EXACT_SMOOTH:
         if s.zone:
-            return period_jerk_zone(s, row, run, bnd, cross, record, buffers, scratch)
-        return period_smooth(s, row, run, bnd, cross, record, buffers, scratch)
-    return period_moreau(s, row, run, bnd, cross, record, buffers, scratch)
+            return period_jerk_zone(s, row, run, bnd, cross, record, buffers, scratch, periods)
+        return period_smooth(s, row, run, bnd, cross, record, buffers, scratch, periods)
+    return period_moreau(s, row, run, bnd, cross, record, buffers, scratch, periods)
 
 
 def _method_code(method) -> int:
@@ -320,26 +334,30 @@ def _begin(method, s, row, scratch):
 
 
 @overload(step, inline="always", jit_options=OPTIONS)
-def _step(method, s, row, run, bnd, cross, record, buffers, scratch):
+def _step(method, s, row, run, bnd, cross, record, buffers, scratch, periods, uniform):
     code = _method_code(method)
     if code == R.EXACT_PIECEWISE and isinstance(record, types.BooleanLiteral) and record.literal_value:
-        return lambda method, s, row, run, bnd, cross, record, buffers, scratch: period_piecewise_called(
-            s, row, run, bnd, cross, record, buffers, scratch)
+        def piecewise_recorded(method, s, row, run, bnd, cross, record, buffers, scratch, periods, uniform):
+            return period_piecewise_called(s, row, run, bnd, cross, record, buffers, scratch, periods, uniform)
+        return piecewise_recorded
     if code == R.EXACT_PIECEWISE:
-        return lambda method, s, row, run, bnd, cross, record, buffers, scratch: period_piecewise(
-            s, row, run, bnd, cross, record, buffers, scratch)
+        def piecewise(method, s, row, run, bnd, cross, record, buffers, scratch, periods, uniform):
+            return period_piecewise(s, row, run, bnd, cross, record, buffers, scratch, periods, uniform)
+        return piecewise
     if code == R.EXACT_SMOOTH:
-        def smooth(method, s, row, run, bnd, cross, record, buffers, scratch):
+        def smooth(method, s, row, run, bnd, cross, record, buffers, scratch, periods, uniform):
             if s.zone:
-                return period_jerk_zone(s, row, run, bnd, cross, record, buffers, scratch)
-            return period_smooth(s, row, run, bnd, cross, record, buffers, scratch)
+                return period_jerk_zone(s, row, run, bnd, cross, record, buffers, scratch, periods)
+            return period_smooth(s, row, run, bnd, cross, record, buffers, scratch, periods)
         return smooth
-    return lambda method, s, row, run, bnd, cross, record, buffers, scratch: period_moreau(
-        s, row, run, bnd, cross, record, buffers, scratch)
+
+    def moreau(method, s, row, run, bnd, cross, record, buffers, scratch, periods, uniform):
+        return period_moreau(s, row, run, bnd, cross, record, buffers, scratch, periods)
+    return moreau
 
 
 @jit
-def drive(s, method, row, run, bnd, cross, record, hist, buffers, scratch):
+def drive(s, method, uniform, row, run, bnd, cross, record, hist, buffers, scratch):
     """Run member ``s`` to its outcome (:mod:`selfalign.solvers.engine`), recording into ``buffers``
     (arcs, events, samples, sample steps) if asked.
 
@@ -351,6 +369,7 @@ def drive(s, method, row, run, bnd, cross, record, hist, buffers, scratch):
     recording code in its loops.
     """
     literally(method)
+    literally(uniform)
     literally(record)
     until, total, max_cycle = run.until, run.total, run.max_cycle
     prepare_member(s, row, method, run.acc_tol)
@@ -363,9 +382,13 @@ def drive(s, method, row, run, bnd, cross, record, hist, buffers, scratch):
                       (0.0, 0.0))
     record_crossings(s, bnd, cross, ARC_STICK, 0.0, s.xi, s.v, 0.0, s.xi, s.v, 0, s.tau0, 0.0)
     fast_forward = run.fast_forward and not record
+    # Nothing is decided at the period boundaries of a run to a fixed horizon that skips nothing:
+    # the stepper may then advance to the horizon in one call.
+    in_one_call = until == R.UNTIL_PERIODS and not fast_forward
     while code == DONE and s.n < total:
         v0, mode0, xi0, path0 = s.v, s.mode, s.xi, s.path
-        code = step(method, s, row, run, bnd, cross, record, buffers, work)
+        code = step(method, s, row, run, bnd, cross, record, buffers, work, total - s.n if in_one_call else 1,
+                    uniform)
         if not (math.isfinite(s.xi) and math.isfinite(s.v)):
             s.xi, s.v, s.mode = xi0, v0, mode0
             if code == DONE:
@@ -385,7 +408,7 @@ def drive(s, method, row, run, bnd, cross, record, hist, buffers, scratch):
 
 
 @jit
-def run_members(members, method, table, run, bnd, cross, hist, arcs, events, samples, steps):
+def run_members(members, method, uniform, table, run, bnd, cross, hist, arcs, events, samples, steps):
     """Drive every member (no recording): the batch, and one trajectory without series.
     ``run``: the run settings (one :data:`~selfalign.solvers.records.RUN_DTYPE` record);
     ``hist`` is scratch space (HIST_DTYPE, max_cycle records); the recording buffers are
@@ -393,14 +416,15 @@ def run_members(members, method, table, run, bnd, cross, hist, arcs, events, sam
     record array is allocated by the caller (numpy record arrays, so that the kernel also
     runs uncompiled, NUMBA_DISABLE_JIT=1)."""
     literally(method)
+    literally(uniform)
     scratch = grid_scratch(method, table)
     table, bnd, cross, hist, arcs, events, samples, steps = borrowed_all(table, bnd, cross, hist, arcs, events,
                                                                          samples, steps)
     settings = run[0]
     for i in range(members.shape[0]):
         s = members[i]
-        drive(s, method, table[s.profile], settings, bnd[i], cross[i], False, hist, (arcs, events, samples, steps),
-              scratch)
+        drive(s, method, uniform, table[s.profile], settings, bnd[i], cross[i], False, hist,
+              (arcs, events, samples, steps), scratch)
 
 
 @jit
@@ -412,5 +436,5 @@ def run_recorded(members, method, table, run, bnd, cross, hist, arcs, events, sa
     table, bnd, cross, hist, arcs, events, samples, sample_steps = borrowed_all(table, bnd, cross, hist, arcs, events,
                                                                                 samples, sample_steps)
     s = members[0]
-    drive(s, method, table[s.profile], run[0], bnd[0], cross[0], True, hist, (arcs, events, samples, sample_steps),
-          grid_scratch(method, table))
+    drive(s, method, False, table[s.profile], run[0], bnd[0], cross[0], True, hist,
+          (arcs, events, samples, sample_steps), grid_scratch(method, table))

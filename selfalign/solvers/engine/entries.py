@@ -19,19 +19,26 @@ from .python_stepper import after_period_entry, begin_entry, finish_entry, moved
 @jit
 def members_piecewise(members, table, run, bnd, cross, hist, arcs, events, samples, steps):
     """:func:`~.drive.run_members` with the exact stepper on piecewise-constant profiles."""
-    run_members(members, EXACT_PIECEWISE, table, run, bnd, cross, hist, arcs, events, samples, steps)
+    run_members(members, EXACT_PIECEWISE, False, table, run, bnd, cross, hist, arcs, events, samples, steps)
+
+
+@jit
+def members_piecewise_uniform(members, table, run, bnd, cross, hist, arcs, events, samples, steps):
+    """:func:`members_piecewise` compiled for members on a uniform surface only (no zone code in its
+    loops): the common case of a sweep and of the paper's steady-state studies."""
+    run_members(members, EXACT_PIECEWISE, True, table, run, bnd, cross, hist, arcs, events, samples, steps)
 
 
 @jit
 def members_smooth(members, table, run, bnd, cross, hist, arcs, events, samples, steps):
     """:func:`~.drive.run_members` with the exact stepper on smooth profiles."""
-    run_members(members, EXACT_SMOOTH, table, run, bnd, cross, hist, arcs, events, samples, steps)
+    run_members(members, EXACT_SMOOTH, False, table, run, bnd, cross, hist, arcs, events, samples, steps)
 
 
 @jit
 def members_moreau(members, table, run, bnd, cross, hist, arcs, events, samples, steps):
     """:func:`~.drive.run_members` with Moreau time-stepping."""
-    run_members(members, MOREAU, table, run, bnd, cross, hist, arcs, events, samples, steps)
+    run_members(members, MOREAU, False, table, run, bnd, cross, hist, arcs, events, samples, steps)
 
 
 @jit
@@ -54,9 +61,20 @@ def recorded_moreau(members, table, run, bnd, cross, hist, arcs, events, samples
 
 #: Method code -> the entry point that drives every member without recording.
 MEMBER_RUNS = {EXACT_PIECEWISE: members_piecewise, EXACT_SMOOTH: members_smooth, MOREAU: members_moreau}
+#: Method code -> the entry point for members that are all on a uniform surface, where one is compiled.
+UNIFORM_MEMBER_RUNS = {EXACT_PIECEWISE: members_piecewise_uniform}
 #: Method code -> the entry point that drives member 0 recording it.
 RECORDED_RUNS = {EXACT_PIECEWISE: recorded_piecewise, EXACT_SMOOTH: recorded_smooth,
                  MOREAU: recorded_moreau}
 
-__all__ = ["MEMBER_RUNS", "RECORDED_RUNS", "after_period_entry", "begin_entry", "finish_entry", "modes",
-           "moved_entry", "sample_arcs", "stick_entry"]
+
+
+def member_run(code, members):
+    """The entry point that drives ``members`` (a member record array) with method ``code``."""
+    if not members["zone"].any():
+        return UNIFORM_MEMBER_RUNS.get(code, MEMBER_RUNS[code])
+    return MEMBER_RUNS[code]
+
+
+__all__ = ["MEMBER_RUNS", "RECORDED_RUNS", "UNIFORM_MEMBER_RUNS", "after_period_entry", "begin_entry", "finish_entry",
+           "member_run", "modes", "moved_entry", "sample_arcs", "stick_entry"]

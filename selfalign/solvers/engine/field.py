@@ -5,27 +5,30 @@ region of an arc, whether a stuck mass is held for good, the bookkeeping of a st
 
 from __future__ import annotations
 
+import math
+
 from ...model import arcs as A
 from ...model import friction as F
 from .. import records as R
 from ..outcomes import HIGH, LOW, ZONE
-from .codes import ARC_SMOOTH, ARC_STICK, DONE, INF, STOP_ACCUMULATION, STOP_FIRST_STICK, STOP_REST
+from .codes import ARC_SMOOTH, ARC_STICK, DONE, INF, STOP_ACCUMULATION, STOP_FIRST_STICK, STOP_NONFINITE, STOP_REST
 from .compiled import inlined, jit
 from .recording import normalised_time
 
 
 @jit
-def friction_at(s, xi):
-    """mu_bar at xi (eqs. 7-9; 1 on a uniform surface)."""
-    if not s.zone:
+def friction_at(s, zone, xi):
+    """mu_bar at xi (eqs. 7-9; 1 on a uniform surface).  ``zone``: whether the member's surface
+    is a stop zone, ``s.zone`` or a compile-time constant where a stepper is specialised on it."""
+    if not zone:
         return 1.0
     return F.coefficient(xi, s.w, s.c_mu)
 
 
 @jit
-def region_of(s, xi, mode):
-    """Region of an arc starting at xi in ``mode`` (tie rule 5)."""
-    if not s.zone:
+def region_of(s, zone, xi, mode):
+    """Region of an arc starting at xi in ``mode`` (tie rule 5); ``zone`` as in :func:`friction_at`."""
+    if not zone:
         return LOW
     if xi < 0.0 or (xi == 0.0 and mode <= 0):
         return LOW
@@ -124,6 +127,27 @@ def save_period(s, events, path, xi_max, dxp, lo, hi, regions):
 
 @jit
 def stop_at(s, code, xi, v, mode, n, tau, dt):
+    """Stop inside a period with result ``code`` at state (xi, v, mode) and time (n, tau)."""
     s.xi, s.v, s.mode = xi, v, mode
     s.stop_n, s.stop_tau = normalised_time(n, tau, dt)
     return code
+
+
+@jit
+def stop_nonfinite(s, xi, v, mode, n):
+    """Stop with STOP_NONFINITE at the last finite state, (xi, v, mode) at the start (n, tau0) of
+    the period in which x or v stopped being finite."""
+    s.xi, s.v, s.mode, s.n = xi, v, mode, n
+    s.stop_n, s.stop_tau = n, s.tau0
+    return STOP_NONFINITE
+
+
+@jit
+def stop_in_period(s, start, code, xi, v, mode, n, tau, dt):
+    """:func:`stop_at` for a stepper that advances several periods per call: ``start`` is
+    (xi, v, mode, n) at the start of the current period n, the state :func:`stop_nonfinite`
+    goes back to if (xi, v) is not finite."""
+    if not (math.isfinite(xi) and math.isfinite(v)):
+        return stop_nonfinite(s, start[0], start[1], start[2], start[3])
+    s.n = start[3]
+    return stop_at(s, code, xi, v, mode, n, tau, dt)

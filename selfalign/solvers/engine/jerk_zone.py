@@ -179,7 +179,7 @@ def _jerk_arc_end(kind, om, sigma, v, acc0, jerk, gap, bounded, rem, xtol, rtol)
 
 
 @jit
-def period_jerk_zone(s, row, run, bnd, cross, record, buffers, scratch):
+def period_jerk_zone(s, row, run, bnd, cross, record, buffers, scratch, periods):
     """Advance member ``s`` one period on a piecewise-linear-y'' profile on a stop zone.
 
     Within a piece y'' = a + j t, so every slip arc is an arc of :mod:`selfalign.model.arcs`
@@ -216,7 +216,7 @@ def period_jerk_zone(s, row, run, bnd, cross, record, buffers, scratch):
             a_slip = NAN
             rem = seg - s0
             if mode == 0:
-                mu = friction_at(s, xi)
+                mu = friction_at(s, s.zone, xi)
                 limit = r_static * mu
                 a_end = ramp_level(row, p, a_seg + jerk * seg)
                 root, new = INF, 0
@@ -227,12 +227,12 @@ def period_jerk_zone(s, row, run, bnd, cross, record, buffers, scratch):
                 elif a_end < -limit:
                     root, new = s0 + (-limit - a) / jerk, 1
                 if not root < seg:              # stuck to the segment's end (the next one decides)
-                    r = region_of(s, xi, 0)
+                    r = region_of(s, s.zone, xi, 0)
                     regions |= 1 << r
                     if record:
                         record_arc(arcs, s, dt, ARC_STICK, nn, ts + s0, rem, xi, 0.0, 0.0, NAN, 0.0, 0, r)
                     break
-                r = region_of(s, xi, 0)
+                r = region_of(s, s.zone, xi, 0)
                 regions |= 1 << r
                 if root > s0:
                     a_slip = -new * limit
@@ -240,14 +240,14 @@ def period_jerk_zone(s, row, run, bnd, cross, record, buffers, scratch):
                     record_arc(arcs, s, dt, ARC_STICK, nn, ts + s0, root - s0, xi, 0.0, 0.0, NAN, 0.0, 0, r)
                     a_r = a if root == s0 else -new * limit
                     record_event(events, s, dt, EV_SLIP, nn, ts + root, xi, 0.0, 0, new, 0.0,
-                                  arc_parameters(s, xi, new, a_r)[3])
+                                  arc_parameters(s, s.zone, xi, new, a_r)[3])
                 count += 1
                 mode, v, s0 = new, 0.0, root
             else:
                 if v * mode < 0.0:              # tie rule 4
                     v = 0.0
                 sigma = float(mode)
-                kind, r, mu, acc0 = arc_parameters(s, xi, mode, a)
+                kind, r, mu, acc0 = arc_parameters(s, s.zone, xi, mode, a)
                 regions |= 1 << r
                 om_arc = 0.0 if kind == ARC_QUADRATIC else s.omega
                 if kind == ARC_QUADRATIC:
@@ -284,14 +284,14 @@ def period_jerk_zone(s, row, run, bnd, cross, record, buffers, scratch):
                     v = v1
                     if record:
                         record_event(events, s, dt, EV_ZONE, nn, ts + s0, xi, v, mode, mode, acc1,
-                                      arc_parameters(s, xi, mode, a_now)[3])
+                                      arc_parameters(s, s.zone, xi, mode, a_now)[3])
                 else:                           # v = 0: stick or reverse (tie rule 1)
                     v = 0.0
-                    mu = friction_at(s, xi)
+                    mu = friction_at(s, s.zone, xi)
                     new = F.decide_mode(a_now, r_static * mu)
                     if record:
                         record_event(events, s, dt, EV_STICK if new == 0 else EV_REVERSAL, nn, ts + s0, xi, 0.0,
-                                      mode, new, acc1, arc_parameters(s, xi, new, a_now)[3])
+                                      mode, new, acc1, arc_parameters(s, s.zone, xi, new, a_now)[3])
                     mode = new
                     if new == 0:
                         code = on_stick(s, xi, mu, nn, ts + s0, until, holds_for_good(s, mu))

@@ -39,7 +39,8 @@ from .field import (
     record_crossings,
     region_of,
     save_period,
-    stop_at,
+    stop_in_period,
+    stop_nonfinite,
 )
 from .recording import record_arc, record_event
 
@@ -74,9 +75,10 @@ def period_segment(row, m, i0, tau0, tail, j):
 
 
 @jit
-def arc_parameters(s, xi, mode, a):
-    """(kind, region, mu_bar, x'') of the arc starting at xi in ``mode`` under y'' = a."""
-    r = region_of(s, xi, mode)
+def arc_parameters(s, zone, xi, mode, a):
+    """(kind, region, mu_bar, x'') of the arc starting at xi in ``mode`` under y'' = a (``zone``:
+    :func:`~.field.friction_at`)."""
+    r = region_of(s, zone, xi, mode)
     if r == LOW:
         mu = 1.0
     elif r == HIGH:
@@ -99,8 +101,10 @@ def _harmonic_reaches(xi, v, acc0, b1, om, xb):
 
 
 @inlined
-def period_piecewise(s, row, run, bnd, cross, record, buffers, scratch):
-    """Advance member ``s`` from the period boundary (n, tau0) to (n + 1, tau0)."""
+def period_piecewise(s, row, run, bnd, cross, record, buffers, scratch, periods, uniform):
+    """Advance member ``s`` from the period boundary (n, tau0) by ``periods`` periods, the state
+    kept in registers from one period to the next (the driver asks for more than one only where
+    it decides nothing at the boundaries between them)."""
     until, max_events = run.until, run.max_events
     arcs, events = buffers[0], buffers[1]
     dt = row[R.DT]
@@ -109,133 +113,142 @@ def period_piecewise(s, row, run, bnd, cross, record, buffers, scratch):
     i0 = s.piece0
     tail = tau0 > row[R.col_break(i0)]
     nseg = m + 1 if tail else m
-    zone, w, om, b1 = s.zone, s.w, s.omega, s.b1
+    zone = False if uniform else s.zone     # uniform: compiled for members on a uniform surface only
+    w, om, b1 = s.w, s.omega, s.b1
     r_static = s.static_ratio               # stick while |y''| <= r mu_bar; slip arcs use mu_bar
     lowest = next_boundary(bnd, cross)
     xi, v, mode, n, count, path, xi_max, dxp, lo, hi, regions, stalled = load_period(s)
     fresh = s.fresh
     s.fresh = False
-    for j in range(nseg):
-        p, ts, seg, dn, at_break = period_segment(row, m, i0, tau0, tail, j)
-        a = row[R.col_level(m, p)]
-        nn = n + dn
-        s0 = 0.0
-        if at_break and not fresh:
-            count += 1
-            if v * mode < 0.0:
-                v = 0.0
-            if record:
-                before = p - 1 if p > 0 else m - 1
-                acc_b = arc_parameters(s, xi, mode, row[R.col_level(m, before)])[3]
-                acc_a = arc_parameters(s, xi, mode, a)[3]
-                record_event(events, s, dt, EV_SWITCH, nn, ts, xi, v, mode, mode, acc_b, acc_a)
-            if mode == 0 or v == 0.0:            # tie rule 3: re-decide at v = 0
-                mu = friction_at(s, xi)
-                new = F.decide_mode(a, r_static * mu)
-                if new != mode:
-                    count += 1
+    for _ in range(periods):
+        dxp, lo, hi, regions, stalled = 0.0, 0.0, 0.0, 0, 0
+        start = (xi, v, mode, n)            # the state to go back to if x or v stops being finite
+        for j in range(nseg):
+            p, ts, seg, dn, at_break = period_segment(row, m, i0, tau0, tail, j)
+            a = row[R.col_level(m, p)]
+            nn = n + dn
+            s0 = 0.0
+            if at_break and not fresh:
+                count += 1
+                if v * mode < 0.0:
+                    v = 0.0
+                if record:
+                    before = p - 1 if p > 0 else m - 1
+                    acc_b = arc_parameters(s, zone, xi, mode, row[R.col_level(m, before)])[3]
+                    acc_a = arc_parameters(s, zone, xi, mode, a)[3]
+                    record_event(events, s, dt, EV_SWITCH, nn, ts, xi, v, mode, mode, acc_b, acc_a)
+                if mode == 0 or v == 0.0:            # tie rule 3: re-decide at v = 0
+                    mu = friction_at(s, zone, xi)
+                    new = F.decide_mode(a, r_static * mu)
+                    if new != mode:
+                        count += 1
+                        if record:
+                            kind_e = EV_SLIP if mode == 0 else (EV_STICK if new == 0 else EV_REVERSAL)
+                            record_event(events, s, dt, kind_e, nn, ts, xi, 0.0, mode, new,
+                                         arc_parameters(s, zone, xi, mode, a)[3],
+                                         arc_parameters(s, zone, xi, new, a)[3])
+                        mode = new
+                        if new == 0:
+                            code = on_stick(s, xi, mu, nn, ts, until, holds_for_good(s, mu))
+                            if code != DONE:
+                                save_period(s, count, path, xi_max, dxp, lo, hi, regions)
+                                return stop_in_period(s, start, code, xi, 0.0, 0, nn, ts, dt)
+                    v = 0.0
+                if count >= max_events:
+                    save_period(s, count, path, xi_max, dxp, lo, hi, regions)
+                    return stop_in_period(s, start, STOP_BUDGET, xi, v, mode, nn, ts, dt)
+            fresh = False
+            while mode != 0:
+                if v * mode < 0.0:                  # tie rule 4
+                    v = 0.0
+                kind, r, mu, acc0 = arc_parameters(s, zone, xi, mode, a)
+                regions |= 1 << r
+                rem = seg - s0
+                s_b = INF
+                xb = 0.0
+                om_arc = 0.0
+                if kind == ARC_QUADRATIC:
+                    s_v = -v / acc0 if acc0 * mode < 0.0 else INF
+                    if zone and (r == LOW) == (mode > 0):
+                        xb = 0.0 if r == LOW else w
+                        s_b = A.crossing_time(ARC_QUADRATIC, 0.0, v, acc0, xi - xb)
+                else:
+                    om_arc = om
+                    s_v = A.zero_velocity_time(kind, om, mode, v, acc0)
+                    xb = w if mode > 0 else 0.0
+                    if kind == ARC_HYPERBOLIC or _harmonic_reaches(xi, v, acc0, b1, om, xb):
+                        s_b = A.crossing_time(kind, om, v, acc0, xi - xb)
+                if s_v <= s_b and s_v <= rem:       # tie rules 2, 3
+                    dur, ev = s_v, END_STOP
+                elif s_b <= rem:
+                    dur, ev = s_b, END_EDGE
+                else:
+                    dur, ev = rem, END_PIECE
+                dx, v1 = A.step(kind, om_arc, v, acc0, dur)
+                if record:
+                    record_arc(arcs, s, dt, kind, nn, ts + s0, dur, xi, v, acc0, a, om_arc, mode, r)
+                xi_new = xb if ev == END_EDGE else xi + dx
+                path += abs(xi_new - xi)
+                if xi_new > xi_max:
+                    xi_max = xi_new
+                if xi_new >= lowest:
+                    lowest = record_crossings(s, bnd, cross, kind, om_arc, xi, v, acc0, xi_new,
+                                              0.0 if ev == END_STOP else v1, nn, ts + s0, dur)
+                if ev == END_PIECE:
+                    dxp += dx
+                    xi = xi_new
+                    v = v1
+                    if dxp > hi:
+                        hi = dxp
+                    elif dxp < lo:
+                        lo = dxp
+                    break
+                s0 += dur
+                count += 1
+                stalled = stalled + 1 if dur == 0.0 else 0
+                if stalled > STALL_EVENTS:
+                    save_period(s, count, path, xi_max, dxp, lo, hi, regions)
+                    return stop_in_period(s, start, STOP_STALL, xi, v, mode, nn, ts + s0, dt)
+                if ev == END_EDGE:                         # zone crossing: land exactly on the boundary
+                    dxp += xb - xi
+                    xi = xb
+                    v = v1
                     if record:
-                        kind_e = EV_SLIP if mode == 0 else (EV_STICK if new == 0 else EV_REVERSAL)
-                        record_event(events, s, dt, kind_e, nn, ts, xi, 0.0, mode, new,
-                                               arc_parameters(s, xi, mode, a)[3], arc_parameters(s, xi, new, a)[3])
+                        record_event(events, s, dt, EV_ZONE, nn, ts + s0, xi, v, mode, mode,
+                                     A.acceleration(kind, b1, acc0, dx), arc_parameters(s, zone, xi, mode, a)[3])
+                else:                               # v = 0: stick or reverse (tie rule 1)
+                    dxp += dx
+                    xi = xi_new
+                    v = 0.0
+                    mu = friction_at(s, zone, xi)
+                    new = F.decide_mode(a, r_static * mu)
+                    if record:
+                        record_event(events, s, dt, EV_STICK if new == 0 else EV_REVERSAL, nn, ts + s0, xi,
+                                     0.0, mode, new, A.acceleration(kind, b1, acc0, dx),
+                                     arc_parameters(s, zone, xi, new, a)[3])
                     mode = new
                     if new == 0:
-                        code = on_stick(s, xi, mu, nn, ts, until, holds_for_good(s, mu))
+                        code = on_stick(s, xi, mu, nn, ts + s0, until, holds_for_good(s, mu))
                         if code != DONE:
                             save_period(s, count, path, xi_max, dxp, lo, hi, regions)
-                            return stop_at(s, code, xi, 0.0, 0, nn, ts, dt)
-                v = 0.0
-            if count >= max_events:
-                save_period(s, count, path, xi_max, dxp, lo, hi, regions)
-                return stop_at(s, STOP_BUDGET, xi, v, mode, nn, ts, dt)
-        fresh = False
-        while mode != 0:
-            if v * mode < 0.0:                  # tie rule 4
-                v = 0.0
-            kind, r, mu, acc0 = arc_parameters(s, xi, mode, a)
-            regions |= 1 << r
-            rem = seg - s0
-            s_b = INF
-            xb = 0.0
-            om_arc = 0.0
-            if kind == ARC_QUADRATIC:
-                s_v = -v / acc0 if acc0 * mode < 0.0 else INF
-                if zone and (r == LOW) == (mode > 0):
-                    xb = 0.0 if r == LOW else w
-                    s_b = A.crossing_time(ARC_QUADRATIC, 0.0, v, acc0, xi - xb)
-            else:
-                om_arc = om
-                s_v = A.zero_velocity_time(kind, om, mode, v, acc0)
-                xb = w if mode > 0 else 0.0
-                if kind == ARC_HYPERBOLIC or _harmonic_reaches(xi, v, acc0, b1, om, xb):
-                    s_b = A.crossing_time(kind, om, v, acc0, xi - xb)
-            if s_v <= s_b and s_v <= rem:       # tie rules 2, 3
-                dur, ev = s_v, END_STOP
-            elif s_b <= rem:
-                dur, ev = s_b, END_EDGE
-            else:
-                dur, ev = rem, END_PIECE
-            dx, v1 = A.step(kind, om_arc, v, acc0, dur)
-            if record:
-                record_arc(arcs, s, dt, kind, nn, ts + s0, dur, xi, v, acc0, a, om_arc, mode, r)
-            xi_new = xb if ev == END_EDGE else xi + dx
-            path += abs(xi_new - xi)
-            if xi_new > xi_max:
-                xi_max = xi_new
-            if xi_new >= lowest:
-                lowest = record_crossings(s, bnd, cross, kind, om_arc, xi, v, acc0, xi_new,
-                                          0.0 if ev == END_STOP else v1, nn, ts + s0, dur)
-            if ev == END_PIECE:
-                dxp += dx
-                xi = xi_new
-                v = v1
+                            return stop_in_period(s, start, code, xi, 0.0, 0, nn, ts + s0, dt)
                 if dxp > hi:
                     hi = dxp
                 elif dxp < lo:
                     lo = dxp
-                break
-            s0 += dur
-            count += 1
-            stalled = stalled + 1 if dur == 0.0 else 0
-            if stalled > STALL_EVENTS:
-                save_period(s, count, path, xi_max, dxp, lo, hi, regions)
-                return stop_at(s, STOP_STALL, xi, v, mode, nn, ts + s0, dt)
-            if ev == END_EDGE:                         # zone crossing: land exactly on the boundary
-                dxp += xb - xi
-                xi = xb
-                v = v1
+                if count >= max_events:
+                    save_period(s, count, path, xi_max, dxp, lo, hi, regions)
+                    return stop_in_period(s, start, STOP_BUDGET, xi, v, mode, nn, ts + s0, dt)
+            if mode == 0:
+                r = region_of(s, zone, xi, 0)
+                regions |= 1 << r
                 if record:
-                    record_event(events, s, dt, EV_ZONE, nn, ts + s0, xi, v, mode, mode,
-                                           A.acceleration(kind, b1, acc0, dx), arc_parameters(s, xi, mode, a)[3])
-            else:                               # v = 0: stick or reverse (tie rule 1)
-                dxp += dx
-                xi = xi_new
-                v = 0.0
-                mu = friction_at(s, xi)
-                new = F.decide_mode(a, r_static * mu)
-                if record:
-                    record_event(events, s, dt, EV_STICK if new == 0 else EV_REVERSAL, nn, ts + s0, xi,
-                                           0.0, mode, new, A.acceleration(kind, b1, acc0, dx),
-                                           arc_parameters(s, xi, new, a)[3])
-                mode = new
-                if new == 0:
-                    code = on_stick(s, xi, mu, nn, ts + s0, until, holds_for_good(s, mu))
-                    if code != DONE:
-                        save_period(s, count, path, xi_max, dxp, lo, hi, regions)
-                        return stop_at(s, code, xi, 0.0, 0, nn, ts + s0, dt)
-            if dxp > hi:
-                hi = dxp
-            elif dxp < lo:
-                lo = dxp
-            if count >= max_events:
-                save_period(s, count, path, xi_max, dxp, lo, hi, regions)
-                return stop_at(s, STOP_BUDGET, xi, v, mode, nn, ts + s0, dt)
-        if mode == 0:
-            r = region_of(s, xi, 0)
-            regions |= 1 << r
-            if record:
-                record_arc(arcs, s, dt, ARC_STICK, nn, ts + s0, seg - s0, xi, 0.0, 0.0, a, 0.0, 0, r)
-    s.xi, s.v, s.mode, s.n = xi, v, mode, n + 1
+                    record_arc(arcs, s, dt, ARC_STICK, nn, ts + s0, seg - s0, xi, 0.0, 0.0, a, 0.0, 0, r)
+        n += 1
+        if not (math.isfinite(xi) and math.isfinite(v)):
+            save_period(s, count, path, xi_max, dxp, lo, hi, regions)
+            return stop_nonfinite(s, start[0], start[1], start[2], start[3])
+    s.xi, s.v, s.mode, s.n = xi, v, mode, n
     save_period(s, count, path, xi_max, dxp, lo, hi, regions)
     return DONE
 

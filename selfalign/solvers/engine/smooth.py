@@ -297,7 +297,7 @@ def smooth_grid(row, tau0, scratch):
 
 
 @jit
-def period_smooth(s, row, run, bnd, cross, record, buffers, scratch):
+def period_smooth(s, row, run, bnd, cross, record, buffers, scratch, periods):
     """Advance member ``s`` one period on a smooth (Fourier or piecewise-linear-y'') profile, uniform surface."""
     until, max_events = run.until, run.max_events
     arcs, events = buffers[0], buffers[1]

@@ -104,7 +104,7 @@ def _richer_friction_step(s, v, v_free, h_mu, fixed_point, fp_tol, fp_max_iter):
 
 
 @jit
-def period_moreau(s, row, run, bnd, cross, record, buffers, scratch):
+def period_moreau(s, row, run, bnd, cross, record, buffers, scratch, periods):
     """Advance member ``s`` one period with N Moreau steps (:mod:`selfalign.solvers.moreau`)."""
     until, fixed_point, fp_tol, fp_max_iter = run.until, run.fixed_point, run.fp_tol, run.fp_max_iter
     samples, sample_steps = buffers[2], buffers[3]
@@ -131,7 +131,7 @@ def period_moreau(s, row, run, bnd, cross, record, buffers, scratch):
         if v == 0.0:
             # Stuck: a step is the identity while |impulse| <= h mu_bar (v* = -impulse lies in
             # the stick window), so jump to the first step that can start a slip.
-            bound = h * friction_at(s, xi) * r_static
+            bound = h * friction_at(s, s.zone, xi) * r_static
             k_next = k
             while k_next < nsteps and abs(row[R.col_impulse(k_next)]) <= bound:
                 k_next += 1
@@ -147,7 +147,7 @@ def period_moreau(s, row, run, bnd, cross, record, buffers, scratch):
             record_sample(samples, s, n, tau0 + k * h, xi, v, (v > 0.0) - (v < 0.0))
             nxt += 1
         x_mid = xi + half * v
-        mu = friction_at(s, x_mid)
+        mu = friction_at(s, s.zone, x_mid)
         regions |= 1 << _step_region(s, x_mid)
         v_free = v - row[R.col_impulse(k)]
         if coulomb:
@@ -170,7 +170,7 @@ def period_moreau(s, row, run, bnd, cross, record, buffers, scratch):
         xi, v = x_new, v_new
         k += 1
         if v == 0.0 and was_moving:
-            mu_x = friction_at(s, xi)
+            mu_x = friction_at(s, s.zone, xi)
             code = on_stick(s, xi, mu_x, n, tau0 + k * h, until, h * mu_x * r_static >= largest)
             if code != DONE:
                 s.dxp, s.lo, s.hi, s.regions = dxp, lo, hi, regions
