@@ -58,6 +58,24 @@ def test_batch_and_scalar_are_bit_identical_on_random_scenes(horizon):
         assert statuses >= {Status.HORIZON, Status.REST, Status.ACCUMULATION, Status.NEVER_STOPS}
 
 
+@pytest.mark.parametrize("horizon", [{"until": "periods", "periods": 25},
+                                     {"until": "periods", "periods": 40, "fast_forward": False},
+                                     {"until": "rest", "max_periods": 300}])
+def test_uniform_batch_entry_is_bit_identical_to_the_general_one(horizon):
+    """A batch whose members are all on a uniform surface runs the stepper compiled without zone
+    code (engine contract, ``uniform``); the same members beside one on a stop zone run the
+    general entry point.  Both are the same arithmetic, so on 300 random uniform scenes every
+    result is identical bit for bit (end state, time, events, status, path, largest x)."""
+    scenes = random_scenes(1200, seed=5)
+    uniform = [sc for sc in scenes if isinstance(sc[1], Uniform)][:300]
+    zone = next(sc for sc in scenes if isinstance(sc[1], StopZone))
+    assert len(uniform) == 300
+    alone, beside = batch_of(uniform, **horizon), batch_of(uniform + [zone], **horizon)
+    assert not alone.records.zone.any() and beside.records.zone[-1]
+    for name in ("xi", "v", "mode", "n_end", "tau_end", "events", "reason", "path", "xi_max", "sticks"):
+        assert alone.records[name].tobytes() == beside.records[name][:-1].tobytes(), name
+
+
 def test_tiny_zone_slope_keeps_full_accuracy():
     """As b1 = (c_mu - 1) / w -> 0 the zone friction tends to 1 and the motion to
     the uniform one, linearly: x(c_mu) - x_uniform = K (c_mu - 1) + O((c_mu - 1)^2).  Positions

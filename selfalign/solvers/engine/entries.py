@@ -70,7 +70,10 @@ RECORDED_RUNS = {EXACT_PIECEWISE: recorded_piecewise, EXACT_SMOOTH: recorded_smo
 
 
 def member_run(code, members):
-    """The entry point that drives ``members`` (a member record array) with method ``code``."""
+    """The entry point that drives the batch ``members`` (a member record array) with method
+    ``code``: the uniform-surface one where it exists and no member is on a stop zone.  Each
+    entry point compiles once per machine (~30 s), so one trajectory (``selfalign.simulate``)
+    always takes :data:`MEMBER_RUNS`: the first call compiles one kernel, whatever the surface."""
     if not members["zone"].any():
         return UNIFORM_MEMBER_RUNS.get(code, MEMBER_RUNS[code])
     return MEMBER_RUNS[code]
