@@ -197,6 +197,11 @@ def test_overflow_ends_at_the_last_finite_state(fast_forward, v0):
     assert np.isfinite(res.x_end[0]) and np.isfinite(res.v_end[0])
     assert n == int(np.floor((np.finfo(float).max - abs(one.x_end[0])) / -d)) + 1
     assert res.x_end[0] == pytest.approx(one.x_end[0] + (n - 1) * d, rel=1e-12)
+    # A stepper that advances one period per call (Moreau) is caught by the driver's own check.
+    moreau = simulate_batch(profile, 0.0, v0=v0, until="periods", periods=10_000, method="moreau",
+                            steps_per_period=10, fast_forward=fast_forward)
+    assert moreau.reason[0] == Reason.NONFINITE
+    assert np.isfinite(moreau.x_end[0]) and np.isfinite(moreau.v_end[0])
 
 
 @pytest.mark.parametrize("kwargs, match", [

@@ -41,7 +41,7 @@ from .codes import (
     STOP_STALL,
 )
 from .compiled import OPTIONS, borrowed_all, inlined, jit
-from .field import friction_at, holds_for_good, record_crossings
+from .field import friction_at, holds_for_good, record_crossings, stop_nonfinite
 from .jerk_zone import period_jerk_zone
 from .piecewise import period_piecewise, period_piecewise_called, piece_at
 from .recording import record_sample
@@ -389,13 +389,8 @@ def drive(s, method, uniform, row, run, bnd, cross, record, hist, buffers, scrat
         v0, mode0, xi0, path0 = s.v, s.mode, s.xi, s.path
         code = step(method, s, row, run, bnd, cross, record, buffers, work, total - s.n if in_one_call else 1,
                     uniform)
-        if not (math.isfinite(s.xi) and math.isfinite(s.v)):
-            s.xi, s.v, s.mode = xi0, v0, mode0
-            if code == DONE:
-                s.n -= 1
-            s.stop_n, s.stop_tau = s.n, s.tau0
-            reason = REASON_NONFINITE
-            break
+        if not (math.isfinite(s.xi) and math.isfinite(s.v)):   # back to where the call started
+            code = stop_nonfinite(s, xi0, v0, mode0, s.n - 1 if code == DONE else s.n)
         if code != DONE:
             break
         reason, count, horizon = after_period(s, hist, count, max_cycle, swing, until, total, fast_forward, v0, mode0,

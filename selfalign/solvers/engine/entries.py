@@ -68,7 +68,6 @@ RECORDED_RUNS = {EXACT_PIECEWISE: recorded_piecewise, EXACT_SMOOTH: recorded_smo
                  MOREAU: recorded_moreau}
 
 
-
 def member_run(code, members):
     """The entry point that drives the batch ``members`` (a member record array) with method
     ``code``: the uniform-surface one where it exists and no member is on a stop zone.  Each
