@@ -1,6 +1,6 @@
 # selfalign workflow: scenes (workflow/scenes/*.yaml) -> results/<stage>/*.h5 -> figures/*.png.
 # Run from the repository top: `snakemake -c2`, or with the workflow profile
-# `snakemake --workflow-profile workflow/profiles/default`.  Layout: README.md, "Pipeline".
+# `snakemake --workflow-profile workflow/profiles/default`.  Layout: docs/tutorials/reproduce-paper.md.
 
 from snakemake.exceptions import WorkflowError
 from snakemake.utils import min_version, validate

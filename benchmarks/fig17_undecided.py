@@ -1,4 +1,4 @@
-"""What the undecided entries of the Fig. 17 sweep do (README "Engine speed"): a census.
+"""What the undecided entries of the Fig. 17 sweep do (docs/explanation/performance.md): a census.
 
 Run: python benchmarks/fig17_undecided.py [n] [entries]   (default 41 32; about 1 minute)
 On an n x n grid of (y2'', y3'') in [0.5, 2.5]^2 at the Fig. 17 settings, every entry that is

@@ -1,4 +1,4 @@
-"""What finite jerk does to the paper's results: the numbers and figure of README "Finite jerk".
+"""What finite jerk does to the paper's results: the numbers and figure of docs/explanation/model.md.
 
 Run:  python benchmarks/finite_jerk_study.py OUT_DIR
 

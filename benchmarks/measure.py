@@ -1,9 +1,9 @@
 """Benchmarks of the solvers and the workflow, measured in one run on one machine.
 
 Used by ``benchmarks/run_all.py`` and the workflow's ``run_benchmarks`` rule
-(README.md, "Benchmarks").  Every function returns plain dicts so the caller
+(docs/explanation/performance.md).  Every function returns plain dicts so the caller
 formats them; :func:`run` collects them and :func:`format_table` prints the
-one table of the README.  Nothing here asserts a timing.
+one table of docs/explanation/performance.md.  Nothing here asserts a timing.
 """
 
 from __future__ import annotations
@@ -231,7 +231,7 @@ def fig17_sweep(n: int = 201, entries: int = 128, processes: int = 2) -> dict:
             "trajectories": moving * entries, "events": sum(int(g.events) for g in grids), "seconds": seconds}
 
 
-#: The design spec of the README's worked example ("Designing a self-aligning station").
+#: The design spec of the worked example of docs/tutorials/design-station.md.
 DESIGN_SPEC = Path(__file__).resolve().parent.parent / "workflow" / "designs" / "smd_steel_table.yaml"
 
 

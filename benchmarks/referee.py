@@ -3,7 +3,7 @@
 Written from the model equations alone, in mpmath at :data:`DPS` digits: it imports nothing of
 ``selfalign`` (tests/test_audit.py checks that) and builds the table acceleration y''(t) of one
 period itself, from the profile parameters (the Appendix's closed form for the three-phase profile,
-README "Finite jerk" items 1-3 for its ramps, the table of "The polynomial profile").
+docs/explanation/model.md items 1-3 for its ramps, the table of "The polynomial profile").
 
 Model (dimensionless, Sect. 3.2).  x is the position relative to the table, v = x', xi = x - x_mu.
 mu(xi) = 1 for xi < 0, 1 + b1 xi on [0, w] with b1 = (c_mu - 1)/w, c_mu for xi > w (eqs. 7-9).
@@ -64,7 +64,7 @@ def _mpf(value):
 
 def three_phase_table(dt, dy, y2, y3, ramp=None, jerk=None) -> Table:
     """The three-phase profile (Sect. 4.4.3, Appendix), with linear ramps of time ``ramp`` (or
-    |jump| / ``jerk``) centred on the switches (README "Finite jerk"), or the paper's jumps."""
+    |jump| / ``jerk``) centred on the switches (docs/explanation/model.md), or the paper's jumps."""
     with mp.workdps(DPS):
         dt, dy, y2, y3 = (_mpf(v) for v in (dt, dy, y2, y3))
         k = 1 / y2 + 1 / y3
@@ -94,7 +94,7 @@ def three_phase_table(dt, dy, y2, y3, ramp=None, jerk=None) -> Table:
 
 
 def polynomial_table(dt, dy, forward_fraction=0.8) -> Table:
-    """The polynomial profile (README "The polynomial profile"): four constant-acceleration pieces."""
+    """The polynomial profile (docs/explanation/model.md): four constant-acceleration pieces."""
     with mp.workdps(DPS):
         dt, dy, f = _mpf(dt), _mpf(dy), _mpf(forward_fraction)
         fwd, back = 4 * dy / (f * dt) ** 2, 4 * dy / ((1 - f) * dt) ** 2

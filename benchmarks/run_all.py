@@ -1,4 +1,4 @@
-"""All benchmarks in one run, printed as the one table of README.md ("Benchmarks").
+"""All benchmarks in one run, printed as the one table of docs/explanation/performance.md.
 
 Run from the repository top:  .venv/bin/python benchmarks/run_all.py [--no-pipeline] [--tiny] [--json FILE]
 Exact vs Moreau at equal accuracy, single-trajectory events/s, batched sweep throughput

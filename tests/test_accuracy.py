@@ -79,7 +79,7 @@ def test_stop_scene_ends_inside_the_accumulation(studies):
 
 def test_every_method_is_timed_with_the_same_fast_forward(studies):
     """The CPU times compare methods on equal terms: every method runs under the one driver, whose
-    fast-forward skips the same periods of a steady state (README, "Accuracy and cost").  The case 1
+    fast-forward skips the same periods of a steady state (docs/explanation/solvers.md).  The case 1
     scene is periodic from t = 0 (Sect. 5.1), so every run of its 4 periods simulates 1 and skips
     3; the stop scene accumulates (no cycle), so no run skips any."""
     for name, skipped in (("accuracy_steady", 3), ("accuracy_stop", 0)):
@@ -174,11 +174,8 @@ def test_until_rest_scene_is_rejected_before_any_work(repo):
 
 
 def test_result_layout_is_documented(repo, studies):
-    """Every attribute, group and dataset of an accuracy result is in the README's Results section."""
-    import re
-
-    readme = (repo / "README.md").read_text()
-    text = re.search(r"^## Results\n(.*?)(?=^## )", readme, re.S | re.M).group(1)
+    """Every attribute, group and dataset of an accuracy result is on the result-file page of the docs."""
+    text = (repo / "docs/reference/results.md").read_text()
     _, (datasets, attrs, groups) = studies["accuracy_stop"]
     names = list(datasets) + list(attrs) + list(groups["exact"]["attrs"])
     names += [n for g in ("moreau", "ivp", "exact") for n in groups[g]["datasets"]]

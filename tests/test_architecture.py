@@ -1,4 +1,4 @@
-"""The package's layers (README "Architecture"): each layer imports only the layers below it, and
+"""The package's layers (docs/explanation/architecture.md): each layer imports only the layers below it, and
 the heavy third-party libraries stay in the one layer that needs them.
 
 Every ``import`` statement of every module is read with :mod:`ast` (function-level imports
@@ -13,7 +13,7 @@ import pytest
 
 PACKAGE = Path(__file__).resolve().parents[1] / "selfalign"
 
-#: layer -> the layers it may import (besides itself).  README "Architecture" draws the same.
+#: layer -> the layers it may import (besides itself).  docs/explanation/architecture.md draws the same.
 ALLOWED = {
     "model": set(),
     "solvers": {"model"},
@@ -82,14 +82,16 @@ MODULES = sorted(p for p in PACKAGE.rglob("*.py") if layer_of(p) is not None)
 
 
 def test_every_subpackage_is_a_known_layer():
-    """A new subpackage must take its place in the layer table (and in the README's drawing)."""
+    """A new subpackage must take its place in the layer table (and in the drawing of
+    docs/explanation/architecture.md)."""
     assert {layer_of(p) for p in MODULES} == set(ALLOWED)
 
 
 @pytest.mark.parametrize("path", MODULES, ids=lambda p: str(p.relative_to(PACKAGE)))
 def test_layer_imports_only_layers_below(path):
-    """The model imports no solver or analysis, solvers no analysis, and so on up (README
-    "Architecture"); third-party heavyweights only where their layer needs them."""
+    """The model imports no solver or analysis, solvers no analysis, and so on up
+    (docs/explanation/architecture.md); third-party heavyweights only where their layer needs
+    them."""
     package = ".".join(path.relative_to(PACKAGE.parent).parent.parts)
     bad = violations(layer_of(path), imports(path.read_text(), package))
     assert not bad, f"{path.relative_to(PACKAGE)} imports across layers:\n" + "\n".join(bad)
@@ -178,7 +180,7 @@ def cycles(graph: dict[str, set[str]]) -> list[list[str]]:
 
 def test_no_import_circles():
     """No two modules import each other, directly or through others, inside a layer too (lazy imports
-    count): a circle means one of them holds what belongs below both (README "Architecture")."""
+    count): a circle means one of them holds what belongs below both (docs/explanation/architecture.md)."""
     graph = import_graph()
     assert len(graph) > 50 and graph["selfalign.solvers.driver"], "the import graph was not read"
     found = cycles(graph)

@@ -1,5 +1,5 @@
 """Bad input is refused before any work, in one line naming the parameter, its value and what is
-allowed (README "Numerical robustness", "Limits"): TypeError for a wrong type, ValueError for a
+allowed (docs/explanation/robustness.md): TypeError for a wrong type, ValueError for a
 wrong value.  Sizes and budgets that scale the work are bounded by documented limits.
 """
 

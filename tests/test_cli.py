@@ -1,4 +1,4 @@
-"""The command line (README "Command line") through its real entry points: ``python -m selfalign``
+"""The command line (docs/reference/cli.md) through its real entry points: ``python -m selfalign``
 in a subprocess and the ``[project.scripts]`` callable; its numbers are the library's."""
 
 import json

@@ -1,4 +1,4 @@
-"""The design tool (selfalign.analysis.design, README "Designing a self-aligning station").
+"""The design tool (selfalign.analysis.design, docs/tutorials/design-station.md).
 
 The tool is checked against brute force and independent simulation: the brute force below
 simulates every design of a coarse grid with its own entry sampling (zone placed one maximal
@@ -246,24 +246,6 @@ def test_command_line_design(tmp_path):
     assert run.return_value == 1 and json.loads(run.output)["found"] is False
 
 
-def test_readme_worked_example_prints_what_it_says(monkeypatch):
-    """Hypothesis: the worked example of README "Designing a self-aligning station", run from the
-    repository top, prints exactly its "# -> " lines."""
-    import contextlib
-    import io
-    import re
-
-    text = (ROOT / "README.md").read_text()
-    section = re.search(r"^## Designing a self-aligning station\n(.*?)(?=^## )", text, re.S | re.M).group(1)
-    (block,) = re.findall(r"^```python\n(.*?)^```$", section, re.S | re.M)
-    monkeypatch.chdir(ROOT)
-    printed = io.StringIO()
-    with contextlib.redirect_stdout(printed):
-        exec(compile(block, "README design example", "exec"), {})
-    expected = [line.split("# -> ", 1)[1] for line in block.splitlines() if "# -> " in line]
-    assert printed.getvalue().splitlines() == expected
-
-
 def test_stage_writes_result_figure_and_recording(tmp_path):
     """Hypothesis: the stage's steps run without Snakemake on a small spec: the result file holds the
     chosen profile in SI with the design map, the figure draws from it, and the recorded stop of the
@@ -302,7 +284,7 @@ def test_robustness_objective_trades_time_for_margin():
 
 
 def test_static_friction_takes_the_accumulation_guarantee_away():
-    """Hypothesis (README "Static and kinetic friction": no accumulation for any mu_s/mu_k > 1): the
+    """Hypothesis (docs/explanation/stopping.md: no accumulation for any mu_s/mu_k > 1): the
     design guaranteed to accumulate under Coulomb friction, verified again with the spec's friction
     block set to static/kinetic r = 1.3, has no entry that accumulates at any mu sample, so it is
     not guaranteed, and the reason says that accumulation fails; a design search under r = 1.3 with

@@ -1,5 +1,5 @@
-"""The design tool and positioning under the effects beyond the paper (README "Designing a self-aligning
-station"): Stribeck friction and finite jerk, simulated with the most exact method that can.
+"""The design tool and positioning under the effects beyond the paper (docs/tutorials/design-station.md
+): Stribeck friction and finite jerk, simulated with the most exact method that can.
 
 Independent checks use Moreau time-stepping at a 4x finer step than the tool's fallback (or
 solve_ivp) on runs the tool does not make: the part from rest at several distances before the strip.

@@ -1,5 +1,5 @@
 """The stage "effects": accumulation and Delta x_d under static friction mu_s = r mu_k,
-from the result file's contents to its figure (README "Static and kinetic friction")."""
+from the result file's contents to its figure (docs/explanation/stopping.md)."""
 
 import numpy as np
 import pytest

@@ -151,7 +151,8 @@ def run(profile, method="exact", periods=10, surface=None, **options):
 def test_exact_tends_to_the_paper_result_as_ramp_vanishes():
     """tau -> 0 on the simulation: the end position after 40 periods from rest converges to the
     paper profile's at first order in tau (the slip starts where the ramp crosses |y''| = 1, an
-    O(tau) shift), and at tau = 1e-13 dt it agrees to 1e-12 (the issue's target, met at this tau)."""
+    O(tau) shift), and at tau = 1e-13 dt it agrees to 1e-12 (the accuracy asked of the finite-jerk
+    solver, met at this tau)."""
     paper = run(sa.ThreePhaseProfile(**FIG18), periods=40).x_end
 
     def error(tau):
@@ -188,7 +189,7 @@ def test_a_slip_from_rest_shorter_than_the_grid_spacing_ends():
 def test_moreau_converges_to_exact():
     """Cross-check: Moreau converges to the exact solver on the ramped profile at about first order:
     the least-squares slope of log error against log h over 1e3 ... 1e6 steps per period lies in
-    [0.6, 1.4] (case 3, with reversals; single points scatter, README "Accuracy and cost"; measured
+    [0.6, 1.4] (case 3, with reversals; single points scatter, docs/explanation/solvers.md; measured
     0.7 over 10 periods, 2e-6 at 1e6 steps)."""
     p = FiniteJerkProfile(**CASE3, ramp=0.05 * CASE3["dt"])
     exact = run(p, periods=10).x_end
@@ -267,7 +268,7 @@ def test_stopping_at_zero_ramp_is_the_paper_positioning(y2, y3):
 
 
 def test_ramps_create_accumulation_where_the_paper_has_none_and_ivp_agrees():
-    """The finding of README "Finite jerk" at one cell of the Fig. 17 plane (y2'' = 1.8, y3'' = 1.5):
+    """The finding of docs/explanation/model.md at one cell of the Fig. 17 plane (y2'' = 1.8, y3'' = 1.5):
     with the paper's profile no entry accumulates (exact positioning), with ramps of 5 % of dt 3 of 16
     do, and solve_ivp, run entry by entry, gives the same outcomes as the exact solver."""
     from selfalign.analysis.finite_jerk import jerk_profile, stopping

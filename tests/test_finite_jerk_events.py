@@ -3,7 +3,7 @@ and stop zone (eqs. 7-9), and the profile's own limits: a ramp ends on its level
 rounding of its break times is refused.
 
 The argument that no event in a bracket is missed is in the docstrings of kernel._jerk_arc_end
-(stop zone) and kernel._slip_minimum (uniform surface), and in README "Finite jerk".  The tests
+(stop zone) and kernel._slip_minimum (uniform surface), and in docs/explanation/model.md.  The tests
 below are the cases the bracketing used to miss: an edge crossed and a stop within one bracket,
 and a dip of the slip velocity through 0 between two grid points."""
 

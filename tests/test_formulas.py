@@ -1,7 +1,7 @@
-"""Every formula once (README "Architecture"): each numbered equation of the paper the package
+"""Every formula once (docs/explanation/architecture.md): each numbered equation of the paper the package
 implements has exactly one implementing function in the equation index (selfalign.model.registry,
 selfalign.cli.equations); no other function carries its implementation marker (a comment that
-starts with ``# eq.``, or a docstring line ``Implements eq.``); docs/equations.md is the index
+starts with ``# eq.``, or a docstring line ``Implements eq.``); docs/reference/equations.md is the index
 as ``selfalign equations`` prints it; and the shared formulas are the ones the engine, analyses
 and design tool run."""
 
@@ -19,7 +19,7 @@ from selfalign.model.friction import level_position, static_stick_limit, stick_l
 from selfalign.model.profiles import ThreePhaseProfile, three_phase_feasibility
 
 PACKAGE = Path(__file__).resolve().parents[1] / "selfalign"
-DOCS = Path(__file__).resolve().parents[1] / "docs" / "equations.md"
+DOCS = Path(__file__).resolve().parents[1] / "docs" / "reference" / "equations.md"
 
 
 def _markers():
@@ -67,8 +67,8 @@ def test_a_formula_says_what_it_implements():
 
 
 def test_equation_page_is_current():
-    """docs/equations.md is `selfalign equations`: regenerate it with
-    `selfalign equations -o docs/equations.md` after changing a formula's tag or docstring."""
+    """docs/reference/equations.md is `selfalign equations`: regenerate it with
+    `selfalign equations -o docs/reference/equations.md` after changing a formula's tag or docstring."""
     assert DOCS.read_text(encoding="utf-8") == markdown()
     result = CliRunner().invoke(cli, ["equations"])
     assert result.exit_code == 0 and result.output == markdown()

@@ -1,4 +1,4 @@
-"""The core install (`pip install selfalign`, no extras; README "Install") runs the library: model,
+"""The core install (`pip install selfalign`, no extras; docs/howto/install.md) runs the library: model,
 solvers, analysis and io import and work without matplotlib, rerun, Snakemake or click, and the
 layers that need one of them say which extra to install."""
 

@@ -1,4 +1,4 @@
-"""The pipeline loses nothing (README "Numerical robustness").
+"""The pipeline loses nothing (docs/explanation/robustness.md).
 
 Snakemake runs in a temporary copy of ``Snakefile`` + ``workflow/`` (as in
 tests/test_workflow.py), on a small fixed set of targets from two stages so that each
@@ -52,7 +52,7 @@ def test_killed_run_leaves_complete_files_and_the_rerun_finishes(workdir):
     seeded random moment up to 0.3 s after the first result appears, so that later jobs are
     still to come however fast the machine is: every results/**/*.h5 that exists opens and
     is complete (atomic writes, no half-written file under a result name), and
-    `snakemake --unlock` followed by `snakemake -c2 --rerun-incomplete` (README) builds the
+    `snakemake --unlock` followed by `snakemake -c2 --rerun-incomplete` (docs/explanation/robustness.md) builds the
     rest."""
     extra_delay = random.Random(7).uniform(0.0, 0.3)
     proc = subprocess.Popen([*SNAKEMAKE, "-c1", *TARGETS], cwd=workdir, stdout=subprocess.DEVNULL,

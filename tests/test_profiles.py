@@ -64,7 +64,7 @@ def test_appendix_constraints_hold_for_random_feasible_inputs():
 
 def test_times_are_ordered_and_initial_velocity_is_positive():
     """0 <= t1 < t_top < t2 < t_bottom < t3 and y'_ini > 0: the table first moves forward, so the
-    Appendix's "second case" y'_ini < 0 never arises (README, derivation)."""
+    Appendix's "second case" y'_ini < 0 never arises (docs/explanation/model.md, derivation)."""
     dt, dy, y2, y3 = random_feasible(200_000)
     sol = three_phase_times(dt, dy, y2, y3)
     assert np.all(sol.yd_ini > 0)
@@ -143,7 +143,7 @@ def test_three_phase_rejects_non_positive_input(dt, dy, y2, y3):
 
 @pytest.mark.parametrize("f", [0.1, 0.5, 0.8, 0.95])
 def test_polynomial_profile(f):
-    """Sect. 4.2 profile (our definition, README): periodic y and y', stroke dy, zero mean y,
+    """Sect. 4.2 profile (our definition, docs/explanation/model.md): periodic y and y', stroke dy, zero mean y,
     peak accelerations 4 dy / (f dt)^2 and 4 dy / ((1 - f) dt)^2 (rtol 1e-12, dense mean 1e-9)."""
     dt, dy = 0.05, 0.02
     p = PolynomialProfile(dt, dy, forward_fraction=f)

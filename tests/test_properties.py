@@ -1,11 +1,11 @@
-"""Property-based tests over random feasible scenes (README "Numerical robustness").
+"""Property-based tests over random feasible scenes (docs/explanation/robustness.md).
 
 Hypothesis profiles: ``ci`` (the default; derandomized, so every run draws the same
 examples, bounded max_examples, no deadline on a loaded machine) and ``dev`` (random,
 more examples): ``HYPOTHESIS_PROFILE=dev pytest tests/test_properties.py``.
 
 Scenes: a feasible three-phase profile (q = sqrt(8 dy (1/y2 + 1/y3)) / dt drawn in
-[0.05, 1], README "The three-phase profile") on a uniform surface or a stop zone, from a
+[0.05, 1], docs/explanation/model.md) on a uniform surface or a stop zone, from a
 random start state and phase, for a few periods.
 """
 

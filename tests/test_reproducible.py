@@ -1,4 +1,4 @@
-"""Results are reproducible (README "Results"): measured values never identify a result.
+"""Results are reproducible (docs/reference/results.md): measured values never identify a result.
 
 Hypotheses:
 

@@ -1,4 +1,4 @@
-"""Every result file describes itself (README "Results"): each dataset carries
+"""Every result file describes itself (docs/reference/results.md): each dataset carries
 ``units`` and ``description`` (coded ones a ``legend``, SI scenes the SI unit), each file its
 provenance (package version, git commit, the scene or config that made it), and write_h5
 refuses a dataset nobody documented.

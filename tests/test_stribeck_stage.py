@@ -1,6 +1,6 @@
 """The Stribeck study of the stage "effects": vbar, accumulation and Delta x_d against
-the Stribeck velocity v_s, from the result file's contents to its figure (README "Static and
-kinetic friction")."""
+the Stribeck velocity v_s, from the result file's contents to its figure (docs/explanation/stopping.md
+)."""
 
 import numpy as np
 import pytest
@@ -18,7 +18,7 @@ ENTRIES = {"dt": 1.0, "dy": 0.084, "w": 0.05, "c_mu": 2.5, "settings": [[2.3, 1.
            "max_periods": 1000}
 #: v_s / velocity swing: the study's small end and its large end.
 FRACTIONS = [1.0e-3, 1.0]
-#: First-order convergence of Stribeck to static/kinetic friction: the README measures an
+#: First-order convergence of Stribeck to static/kinetic friction: docs/explanation/solvers.md measures an
 #: end-position error of 0.19 v_s (Fig. 18 profile); twice that bounds each end position (so
 #: Delta x_d) and vbar, whose error per unit v_s is 0.04 to 0.21 on Fig. 11's plane.
 FIRST_ORDER = 2 * 0.19

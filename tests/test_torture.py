@@ -1,4 +1,4 @@
-"""Hard cases stay numerically stable (README, "Numerical robustness").
+"""Hard cases stay numerically stable (docs/explanation/robustness.md).
 
 One test per hazard.  The exact solver must give the right answer, checked against a
 closed form, an invariant or an exact rational reference (:func:`rational_reference`:
@@ -76,7 +76,7 @@ def assert_matches_reference(traj, profile, v0, periods, ulps=64):
 def moreau_converges(profile, x_exact, surface=None, **scene):
     """Moreau converges at first order: over ten steps h = dt/n, n = 200 ... 7700 in ratio
     1.5 (not powers of two, whose error constants can alias: the constant of the O(h) error
-    depends on where the steps fall relative to the events, README "Solvers"), the
+    depends on where the steps fall relative to the events, docs/explanation/solvers.md), the
     Theil-Sen slope of log error against log h lies in [0.7, 1.5], and every error is at
     most 10 periods h max|y''|."""
     from scipy.stats import theilslopes
@@ -102,7 +102,7 @@ def moreau_converges(profile, x_exact, surface=None, **scene):
 @pytest.mark.parametrize("y2, y3, case", [(1.0, 0.9, 5), (1.0, 1.5, 2), (2.2, 1.0, 1), (1.0, 1.0, 5)])
 def test_tie_table_acceleration_equals_friction(y2, y3, case):
     """Hazard: y2'' = 1 or y3'' = 1 exactly, so |y''| = mu_bar during a whole piece and the
-    stick/slip decision is a tie (README "Stick ties": ties stick).  Expected: the case of
+    stick/slip decision is a tie (docs/explanation/paper.md: ties stick).  Expected: the case of
     Table 1 with ties on the sticking side, the exact solver equal to the rational reference
     to 64 ulp of the distance moved and to n vbar dt (closed form, steady_state) to 1e-12
     relative; ivp within its rtol; Moreau converging with h."""
@@ -200,7 +200,7 @@ def test_accumulation_reaches_limit_with_bounded_work():
     cos(omega (t2 - t1)) (stick_map_contraction; the measured ratio of the last increments,
     to 1e-4), and a bounded number of events
     (< 200 for accumulation_tol = 1e-12).  Moreau (scheme limit) reaches the same limit;
-    ivp, whose stick events go through the same accumulation test (README "Solvers"), ends
+    ivp, whose stick events go through the same accumulation test (docs/explanation/solvers.md), ends
     in the accumulation (or at rest) at the limit to 1e-9."""
     zone = sa.StopZone(0.5, 0.05, 2.5)
     limit = Fraction(1, 2) + Fraction(1, 20) * (Fraction(11, 5) - 1) / (Fraction(5, 2) - 1)
@@ -246,7 +246,7 @@ def test_walking_through_a_weak_zone_is_detected():
     """Hazard: c_mu = 1.5 < max|y''| = 2.2, so the mass can stick nowhere in the high-friction
     region (x_stick_min = +inf, eq. 41) and walks on forever.  Expected: NEVER_STOPS with a
     positive net advance per period, after few periods; Moreau and ivp say so too (the same
-    period-boundary test, README "Solvers")."""
+    period-boundary test, docs/explanation/solvers.md)."""
     zone = sa.StopZone(0.5, 0.05, 1.5)
     assert zone.x_stick_min(FIG18.max_abs_acceleration) == math.inf
     traj = run(FIG18, zone, until="rest", max_periods=1000)
@@ -353,7 +353,7 @@ def test_large_offset_is_as_accurate_as_zero(method):
 # ------------------------------------------------------------------------------------------
 
 def edge_profile(dt, y2, y3, shrink):
-    """The three-phase profile with q = shrink (q = 1 is the case-0 boundary, README)."""
+    """The three-phase profile with q = shrink (q = 1 is the case-0 boundary, docs/explanation/model.md)."""
     k = 1.0 / y2 + 1.0 / y3
     return sa.ThreePhaseProfile(dt, dt * dt / (8.0 * k) * shrink**2, y2, y3)
 

@@ -1,4 +1,4 @@
-"""The workflow follows Snakemake's conventions (README "Pipeline"): `snakemake --lint` finds
+"""The workflow follows Snakemake's conventions (docs/tutorials/reproduce-paper.md): `snakemake --lint` finds
 nothing, so every rule names its conda environment and no rule file defines functions."""
 
 import pytest

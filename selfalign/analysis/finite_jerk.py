@@ -1,4 +1,4 @@
-"""What finite jerk does to the paper's results (README "Finite jerk").
+"""What finite jerk does to the paper's results (docs/explanation/model.md).
 
 The three-phase profile with y'' ramps of time tau at each switch
 (:class:`~selfalign.model.profiles.FiniteJerkProfile`) against the paper's (tau = 0):
@@ -10,7 +10,7 @@ The three-phase profile with y'' ramps of time tau at each switch
 * :func:`stopping`: the outcome of n_entries steady-state entries into a stop zone
   (Sect. 7.1, placed as :mod:`selfalign.analysis.positioning` places them) and the
   positioning error Delta x_d (eq. 39), with the exact solver (its jerk arcs on the zone,
-  README "Finite jerk"), or Moreau time-stepping under Stribeck friction.
+  docs/explanation/model.md), or Moreau time-stepping under Stribeck friction.
 """
 
 from __future__ import annotations

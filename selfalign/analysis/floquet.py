@@ -29,8 +29,8 @@ Floquet multipliers.  :func:`floquet` computes it by
     x' at the scale of one step (a step whose velocity lands in the stick window
     |v| <= h mu_bar of the implicit friction impulse erases a perturbation, any
     other step passes it on unchanged), so its local derivative is 0 or 1; only
-    a secant with h << eps averages it, with an error ~ lambda2 h / eps (README,
-    "Stability").  Hence the default eps = sqrt(h) for Moreau.
+    a secant with h << eps averages it, with an error ~ lambda2 h / eps
+    (docs/explanation/stability.md).  Hence the default eps = sqrt(h) for Moreau.
 
 The periodic motion is started from the closed-form steady state
 (:func:`selfalign.analysis.steady_state.steady_state`: x'(0) = v0) for a three-phase

@@ -21,7 +21,7 @@ from .sqp import dot, minimise
 from .steady_simulation import SimulatedSteadyState, exact_steady_state, objective, run_periods
 from .steady_state import steady_state_grid
 
-#: f reported in the caption of the paper's Fig. 6 (inconsistent with eq. 11, see the README).
+#: f reported in the caption of the paper's Fig. 6 (inconsistent with eq. 11, see docs/explanation/stability.md).
 PAPER_FIG6_F = 56.0
 
 
@@ -115,7 +115,7 @@ def optimise_fourier(dt: float, dy: float, yd_max: float, ydd_max: float, *, ord
     i.e. stroke <= dy, |y'| <= yd_max, |y''| <= ydd_max.  All are linear in z, so every
     iterate meets them exactly on the samples (between samples a peak may exceed its
     bound by ~(pi / samples per shortest period)^2 / 2 relative).  The stroke bound is
-    an inequality: a dithering profile (README) may do better with a slightly smaller
+    an inequality: a dithering profile (docs/explanation/stability.md) may do better with a slightly smaller
     stroke.  The true stroke and peaks are reported in ``settings``.
 
     Objective: -vbar of the steady state the exact solver reaches from rest, x'(0) = 0

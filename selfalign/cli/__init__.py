@@ -1,4 +1,4 @@
-"""The ``selfalign`` command line (README "Command line"): ``selfalign --help``.
+"""The ``selfalign`` command line (docs/reference/cli.md): ``selfalign --help``.
 
 This module only checks that click is there and runs :mod:`selfalign.cli.commands`,
 so that a missing click is one line, not an ImportError, and ``import selfalign``

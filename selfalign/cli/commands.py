@@ -1,7 +1,7 @@
-"""The subcommands of ``selfalign`` (README "Command line"), on click.
+"""The subcommands of ``selfalign`` (docs/reference/cli.md), on click.
 
 Each command checks its input, calls the library (the same calls as the workflow
-scripts and the README's "Use from Python") and prints text or JSON.  Bad input,
+scripts and docs/tutorials/first-simulation.md) and prints text or JSON.  Bad input,
 a bad scene or a value the library refuses ends the command with one line on
 stderr and exit code 2 (:func:`reported`); ``--debug`` prints the traceback first.
 """
@@ -271,7 +271,7 @@ def emit(values: dict, si: SIScale | None, as_json: bool) -> None:
 @debug_option
 @reported
 def equations(output: Path | None) -> int:
-    """Print the equation index (docs/equations.md): every numbered equation of the paper the
+    """Print the equation index (docs/reference/equations.md): every numbered equation of the paper the
     package implements and the one function implementing it, then the unnumbered formulas."""
     text = equation_markdown()
     if output is None:

@@ -1,7 +1,7 @@
 """The equation index: every equation of the paper the package implements, and the one function
 that implements it (:mod:`selfalign.model.registry`).
 
-``selfalign equations`` prints it as Markdown; ``docs/equations.md`` is that output, and
+``selfalign equations`` prints it as Markdown; ``docs/reference/equations.md`` is that output, and
 tests/test_formulas.py fails when the two differ or when a function other than an equation's
 owner carries its implementation marker.
 """
@@ -42,5 +42,5 @@ def index() -> dict:
 
 
 def markdown() -> str:
-    """The equation index as the Markdown page docs/equations.md."""
+    """The equation index as the Markdown page docs/reference/equations.md."""
     return HEADER + registry.equation_table(formulas())

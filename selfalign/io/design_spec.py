@@ -1,5 +1,5 @@
 """Design spec files: YAML read, checked against ``schemas/design.schema.yaml``, turned into a
-:class:`~selfalign.model.design_spec.DesignSpec` (README "Designing a self-aligning station").
+:class:`~selfalign.model.design_spec.DesignSpec` (docs/tutorials/design-station.md).
 
 Every problem is one line naming the file and the key, e.g.
 ``workflow/designs/x.yaml: actuator.acceleration: must be > 0, got -3``.

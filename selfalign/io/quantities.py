@@ -1,4 +1,4 @@
-"""Units and meaning of every dataset in a result file (README "Results").
+"""Units and meaning of every dataset in a result file (docs/reference/results.md).
 
 :func:`selfalign.io.hdf5.write_h5` looks every dataset up here and stores
 ``units`` and ``description`` as its attributes (and ``legend`` for a coded

@@ -7,7 +7,7 @@ written and :func:`trajectory_from_result` rebuilds the Trajectory from
 :func:`selfalign.io.hdf5.read_h5`'s output, so that later stages and figures
 work on the same object a direct ``simulate`` call returns.
 
-Layout (README "Results"):
+Layout (docs/reference/results.md):
 
 * root attributes: ``scene_name``, ``scene`` (YAML text of ``scene.to_dict()``),
   ``method``, ``options`` (the solver options used), ``status``, ``reason``, ``message``,

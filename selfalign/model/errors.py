@@ -22,7 +22,7 @@ class SceneError(ValueError):
 def require_extra(module: str, extra: str, needed_by: str) -> None:
     """Raise an ImportError naming the extra to install unless ``module`` is importable.
 
-    The core install leaves matplotlib, rerun and Snakemake out (README "Install"); a layer that
+    The core install leaves matplotlib, rerun and Snakemake out (docs/howto/install.md); a layer that
     needs one calls this at its top.  It only looks the module up, so the guard costs no import time.
     """
     try:

@@ -190,7 +190,7 @@ def three_phase_feasibility(dt, dy, y2, y3):
 def three_phase_times(dt, dy, y2, y3) -> ThreePhaseTimes:
     """Solve the seven Appendix constraints (Sect. 4.4.3) in closed form.
 
-    Derivation (documented in the README): let u = y2 (t2 - t1) = y3 (t3 - t2)
+    Derivation (documented in docs/explanation/model.md): let u = y2 (t2 - t1) = y3 (t3 - t2)
     be the velocity swing (eq. 63) and k = 1/y2 + 1/y3, so t3 - t1 = u k.
     Zero mean velocity (periodic position, eq. 64) gives y'_ini = u^2 k / (2 dt),
     and the stroke condition (eq. 62) gives (u - y'_ini)^2 k / 2 = dy.  With
@@ -277,7 +277,7 @@ class PiecewiseLinearProfile(Profile):
     s the time since the piece start, running from ``accels[i]`` to ``ends[i]``; ``y_start``,
     ``yd_start`` are y and y' at t = 0.  Zero-length pieces are dropped.  y and y' are
     continuous (integrated piece by piece); y'' may jump at a break.  It is not piecewise
-    constant: the exact solver runs it on its smooth stepper (README "Finite jerk").
+    constant: the exact solver runs it on its smooth stepper (docs/explanation/model.md).
 
     ``ends`` (default accels + jerks * lengths) are the values y'' reaches at the piece ends,
     and y'' never leaves [min(accels[i], ends[i]), max(accels[i], ends[i])] (it is clamped
@@ -395,7 +395,7 @@ def finite_jerk_times(dt, dy, y2, y3, ramp_a, ramp_b, ramp_c) -> FiniteJerkTimes
     """Switch times of the three-phase profile whose y'' ramps linearly over ``ramp_a`` (0 to -y2),
     ``ramp_b`` (-y2 to +y3) and ``ramp_c`` (+y3 to 0), each ramp centred on its switch time.
 
-    Derivation (README "The three-phase profile"): a ramp of length T and jump J centred on
+    Derivation (docs/explanation/model.md): a ramp of length T and jump J centred on
     a switch has the step's velocity change, so y' equals the paper's y' outside the ramps;
     inside it differs by J (s + T/2)^2 / (2 T) before the centre and J (s - T/2)^2 / (2 T)
     after it, which shifts y by J T^2 / 24 per ramp.  With u = y2 (t2 - t1) = y3 (t3 - t2)

@@ -3,7 +3,7 @@
 As in :mod:`selfalign.plots.profile`: each function draws data it is given onto a
 matplotlib ``Figure`` and returns it; no physics, no file writes, only the
 object-oriented API.  ``figure_NN(result)`` builds figure NN from a result file
-read with :func:`selfalign.io.hdf5.read_h5` (the layouts are in the README,
+read with :func:`selfalign.io.hdf5.read_h5` (the layouts are in docs/reference/results.md,
 "Steady state and classification").  Fig. 8 is drawn by walking the decision
 tree of :mod:`selfalign.analysis.classification` — the tree that classifies the maps —
 so the flow chart cannot disagree with the code.

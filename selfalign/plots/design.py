@@ -1,4 +1,4 @@
-"""The figure of a design (results/design/<spec>.h5, README "Designing a self-aligning station").
+"""The figure of a design (results/design/<spec>.h5, docs/tutorials/design-station.md).
 
 A: process time against positioning error along the closed-form front (time D/vbar against
 the spread of x_stick_min over mu) and its simulated members; B: closed-form process time

@@ -1,4 +1,4 @@
-"""The finite-jerk figure (README "Finite jerk"): the paper's maps against the ramp time of y''.
+"""The finite-jerk figure (docs/explanation/model.md): the paper's maps against the ramp time of y''.
 
 Data in (the grids of :mod:`selfalign.analysis.finite_jerk`), Figure out; no physics, no files.
 """

@@ -14,7 +14,7 @@ numba is imported here and nowhere else at import time of a solver call, so that
 * turns a failure to import or compile into :class:`KernelError` with a clear message.
 
 The first call of each kernel entry point in a fresh cache compiles it (seconds; see
-README "Benchmarks"); later processes load it from the cache.  :func:`call` says so before
+docs/explanation/performance.md); later processes load it from the cache.  :func:`call` says so before
 it waits: once per process, the first time an entry point has no cache entry on disk, the
 logger ``selfalign.solvers.jit`` (:data:`LOGGER`) tells at level INFO what compiles and
 where the result is kept (the CLI prints it on stderr).
@@ -39,7 +39,7 @@ SOURCES = tuple(f"solvers/engine/{name}.py" for name in (
 #: The logger that announces a compilation (and how long it took).
 LOGGER = logging.getLogger(__name__)
 #: Wall time of compiling the entry points of one solver run on an empty cache, as told to the
-#: user before it starts (README "Benchmarks": measured on 2-core machines, 13-17 s).
+#: user before it starts (docs/explanation/performance.md: measured on 2-core machines, 13-17 s).
 COMPILE_SECONDS = 15
 
 _kernel = None

@@ -12,7 +12,7 @@ short it is, and the table velocity the mass sees is periodic: the scheme is fir
 in h with an error constant that does not grow with the horizon beyond the motion's own
 sensitivity.  (Sampling y'' at the step midpoints instead, as an earlier version did,
 misses phases shorter than h and leaves a net table impulse of up to h |jump| per
-period, so the mass drifts like N^2 h max|y''| over N periods; README "Solvers".)
+period, so the mass drifts like N^2 h max|y''| over N periods; docs/explanation/solvers.md.)
 
 The implicit friction equation has the exact one-dimensional solution
 (``iteration="exact"``) v_{k+1} = v* - clip(v*, -h mu_bar, h mu_bar) with

@@ -54,7 +54,7 @@ REASON_STATUS = {
 #: Status codes (int) in the order of :class:`Status`, for arrays of results.
 STATUS_CODES = {status: code for code, status in enumerate(Status)}
 
-#: The driver's decision constants (README "Solvers"), one set for every method.
+#: The driver's decision constants (docs/explanation/solvers.md), one set for every method.
 #: Longest cycle of period-boundary states the driver looks for, in periods (default).
 MAX_CYCLE = 8
 #: A near repeat of the period-boundary state: within NEAR_ULPS ulp of the position scale

@@ -1,4 +1,4 @@
-"""Result files of the workflow stage "accumulation" (Sect. 7, README "Stopping and accumulation"):
+"""Result files of the workflow stage "accumulation" (Sect. 7, docs/explanation/stopping.md):
 the Fig. 17 sweep computed in shards and gathered, the accumulation map of Fig. 18 and the phase
 portraits of Figs. 14-16.  Each builder returns the (datasets, attributes[, groups]) that
 :func:`selfalign.io.hdf5.write_h5` writes.

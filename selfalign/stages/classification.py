@@ -1,6 +1,6 @@
-"""Result files of the workflow stage "classification" (Sects. 4.3-5.2, README "Steady state and
-classification"): the (y2'', y3'') maps of Figs. 10 and 11 computed in shards and gathered, their
-verification against simulation, and Fig. 6's Fourier optimisation.  Each builder returns the
+"""Result files of the workflow stage "classification" (Sects. 4.3-5.2,
+docs/explanation/stability.md): the (y2'', y3'') maps of Figs. 10 and 11 computed in shards and
+gathered, their verification against simulation, and Fig. 6's Fourier optimisation.  Each builder returns the
 (datasets, attributes) that :func:`selfalign.io.hdf5.write_h5` writes.
 """
 
@@ -59,7 +59,7 @@ def map_shard(dt: float, dy: float, y2, y3, rows: slice, *, simulate: bool = Tru
 
 def gather_map(dt: float, dy: float, y2, y3, shards: list[dict]) -> tuple[dict, dict]:
     """Datasets and attributes of ``results/classification/fig10.h5`` / ``fig11.h5`` from the
-    shards in row order (README, "Steady state and classification")."""
+    shards in row order (docs/explanation/stability.md)."""
     y2, y3 = np.asarray(y2, dtype=float), np.asarray(y3, dtype=float)
     data = {"y2": y2, "y3": y3}
     for name in (n for n in MAP_FIELDS if n in shards[0]):
@@ -101,7 +101,7 @@ def map_verification(data: dict, attrs: dict) -> dict:
 def fig06_results(dt: float, dy: float, yd_max: float, ydd_max: float, *, order: int = 12,
                   max_iter: int = 130, samples_per_period: int = 1000,
                   motion_periods: int = 3, progress: str = "auto") -> tuple[dict, dict, FourierOptimum]:
-    """Datasets and attributes of ``results/classification/fig06.h5`` (README), and the
+    """Datasets and attributes of ``results/classification/fig06.h5`` (docs/reference/results.md), and the
     optimisation result itself.
 
     The optimised profile is time-shifted to match the best three-phase profile

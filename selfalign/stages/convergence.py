@@ -1,4 +1,4 @@
-"""Result files of the workflow stage "convergence" (Sect. 6.2, README "Convergence"): two
+"""Result files of the workflow stage "convergence" (Sect. 6.2, docs/explanation/stability.md): two
 velocity transients and the Lyapunov function V of eq. (35), and their rerun recording.
 """
 
@@ -13,7 +13,7 @@ from ..model.scene import Scene
 
 
 def convergence_result(scene: Scene, v20: float) -> tuple[dict, dict]:
-    """Datasets and attributes of ``results/convergence/<scene>.h5`` (README, "Results").
+    """Datasets and attributes of ``results/convergence/<scene>.h5`` (docs/reference/results.md).
 
     Datasets: the samples ``t``, ``v1``, ``v2``, ``V``, ``dV`` of :class:`LyapunovTrace`,
     the labelled intervals ``interval_start``, ``interval_end``, ``interval_equal``, and

@@ -1,4 +1,4 @@
-"""Result files of the workflow stage "design" (README "Designing a self-aligning station"):
+"""Result files of the workflow stage "design" (docs/tutorials/design-station.md):
 each spec of ``workflow/designs/`` designed (:func:`selfalign.analysis.design.design`) with its
 design map into ``results/design/<spec>.h5``, and the chosen design's stop at the nominal mu
 as a rerun recording.

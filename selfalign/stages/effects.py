@@ -1,5 +1,5 @@
-"""Result files of the workflow stage "effects": what the friction laws beyond the paper (README
-"Static and kinetic friction") do to vbar, stopping and accumulation (Sect. 7): static
+"""Result files of the workflow stage "effects": what the friction laws beyond the paper
+(docs/explanation/stopping.md) do to vbar, stopping and accumulation (Sect. 7): static
 friction (``static_friction.h5``) and the Stribeck law (``stribeck.h5``).  Each builder
 returns the (datasets, attributes, groups) that :func:`selfalign.io.hdf5.write_h5` writes.
 """
@@ -117,7 +117,7 @@ def stribeck_stopping(v_s_fractions, settings, *, dt: float, dy: float, w: float
 def stribeck_content(v_s_fractions, *, ratio: float, delta: float, steps_per_period: int, steady: dict,
                      entries: dict):
     """Contents of ``results/effects/stribeck.h5``: vbar, accumulation and Delta x_d under the
-    Stribeck law (README "Static and kinetic friction") against v_s / velocity swing
+    Stribeck law (docs/explanation/stopping.md) against v_s / velocity swing
     (``v_s_fraction``, the root's axis).  ``steady``: keyword arguments of
     :func:`stribeck_steady` (dt, dy, settings); ``entries``: those of
     :func:`stribeck_stopping` (dt, dy, w, c_mu, settings, n_entries, max_periods)."""

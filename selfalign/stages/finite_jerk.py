@@ -1,4 +1,4 @@
-"""Result file of the workflow stage "finite_jerk" (README "Finite jerk"): the paper's maps
+"""Result file of the workflow stage "finite_jerk" (docs/explanation/model.md): the paper's maps
 against the ramp time of y'' (:mod:`selfalign.analysis.finite_jerk`) into
 ``results/finite_jerk/finite_jerk.h5``, one group per plane: ``steady_<plane>`` (vbar and the
 case of Table 1, exact solver) and ``stopping`` (steady-state entries into the stop zone).

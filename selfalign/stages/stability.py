@@ -1,4 +1,4 @@
-"""Result files of the workflow stage "stability" (Sect. 6.1, README "Stability"): every Floquet
+"""Result files of the workflow stage "stability" (Sect. 6.1, docs/explanation/stability.md): every Floquet
 method of :func:`selfalign.analysis.floquet.floquet` on one scene's steady state, and over a
 (y2'', y3'') grid of three-phase profiles.  Each builder returns the (datasets, attributes) that
 :func:`selfalign.io.hdf5.write_h5` writes.
@@ -22,7 +22,7 @@ def _method_runs(analytic: bool):
 
 
 def stability_result(scene: Scene, moreau_steps=(100, 1000, 10000), moreau_eps=(1e-4, 1e-3, 1e-2)):
-    """Datasets and attributes of ``results/stability/<scene>.h5`` (README, "Results").
+    """Datasets and attributes of ``results/stability/<scene>.h5`` (docs/reference/results.md).
 
     Every method of :func:`floquet` on the scene's steady state: ``methods`` (labels;
     the first is the reference: analytic where it applies, else saltation),

@@ -80,8 +80,8 @@ def _error(value: float) -> str:
 
 
 def floquet_rows(results: list[dict]) -> tuple[list[str], list[list[str]]]:
-    """Floquet multipliers of the stability scenes by every method (Sect. 6.1, README
-    "Stability"), and the largest entry difference of each monodromy matrix from the
+    """Floquet multipliers of the stability scenes by every method (Sect. 6.1,
+    docs/explanation/stability.md), and the largest entry difference of each monodromy matrix from the
     reference (analytic where it applies, else saltation)."""
     columns = ["scene", "setting", "case", *FLOQUET_METHODS.values(), "reference",
                "max |ΔM|: " + " / ".join(list(FLOQUET_METHODS.values())[1:])]

@@ -1,6 +1,6 @@
 # Stage "accuracy": the work-precision study (Moreau time-stepping and solve_ivp against the
 # exact solver, error against CPU time) of each scene into results/accuracy/<scene>.h5.
-# Timings are CPU times measured inside the job (README "Solvers").
+# Timings are CPU times measured inside the job (docs/explanation/solvers.md).
 
 
 rule measure_accuracy:

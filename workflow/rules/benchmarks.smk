@@ -1,4 +1,4 @@
-# Benchmarks (README.md, "Benchmarks"): not part of rule `all`, so `snakemake -c2` stays fast.
+# Benchmarks (docs/explanation/performance.md): not part of rule `all`, so `snakemake -c2` stays fast.
 # Run them with `snakemake -c2 benchmarks`; the table lands in results/benchmarks/table.md.
 
 BENCHMARKS = config.get("benchmarks", {})

@@ -2,7 +2,7 @@
 # polynomial profile (Figs. 4, 5), the Fourier shape optimisation (Fig. 6) and the
 # (y2'', y3'') maps of f and case (Figs. 10, 11).  Each map is computed in `shards` row
 # blocks (one job each) and gathered; every map point is verified against a simulation
-# (rule verify_maps).  README.md, "Steady state and classification".
+# (rule verify_maps).  docs/explanation/stability.md.
 
 CLASSIFICATION = config["stages"]["classification"]
 MAPS = sorted(CLASSIFICATION["maps"])

@@ -1,4 +1,4 @@
-# Stage "design": each spec of workflow/designs/ (README "Designing a self-aligning station")
+# Stage "design": each spec of workflow/designs/ (docs/tutorials/design-station.md)
 # designed with its design map at the chosen period and stroke, and the chosen design's stop
 # recorded for rerun.  The figure of each design is a rule of figures.smk (plot_design_<spec>).
 

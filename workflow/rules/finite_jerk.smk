@@ -1,4 +1,4 @@
-# Stage "finite_jerk" (README "Finite jerk"): the paper's maps against the ramp time of y''
+# Stage "finite_jerk" (docs/explanation/model.md): the paper's maps against the ramp time of y''
 # (steady vbar and case over each steady plane, stopping in accumulation's zone) into one
 # result file; its figure is the rule plot_finite_jerk of figures.smk.
 

@@ -1,4 +1,4 @@
-"""The finite-jerk study (README "Finite jerk") into results/finite_jerk/finite_jerk.h5."""
+"""The finite-jerk study (docs/explanation/model.md) into results/finite_jerk/finite_jerk.h5."""
 
 import numpy as np
 

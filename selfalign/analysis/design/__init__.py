@@ -15,7 +15,7 @@ with closed forms at every mu of a dense sample of [mu (1 - delta), mu (1 + delt
 (:data:`~selfalign.model.design_spec.DENSE_MU`): a physical profile (q <= 1, Sect. 5.1), forward motion (case > 0 and
 vbar > 0, :func:`~selfalign.analysis.steady_state.steady_state_grid`), a strip that can hold
 the part (max(A2, A3) <= c_mu mu' g, eq. 41) and, where accumulation is asked for, y2'' > y3''
-(README "Where the paper is wrong or imprecise (Sect. 7)": no setting with y3'' > y2''
+(docs/explanation/paper.md: no setting with y3'' > y2''
 accumulates) and an end position x_stick_min (eq. 41) that moves with mu by at most the
 tolerance.  Survivors are ranked by a closed-form process time (distance to travel over the
 slowest vbar, :class:`Screen`) and verified

@@ -118,7 +118,7 @@ def verify(spec: DesignSpec, cand: Candidates, n_entries: int | None = None) -> 
             ends[rows, j] = grid.overshoot * spec.width
             out["vbar"][rows, j] = grid.vbar * scale(spec, mu).unit("velocity")
     # The sufficient condition of eq. (59) is that of the paper's model (Coulomb friction, y'' jumps);
-    # under static friction nothing accumulates (README "Static and kinetic friction"); with
+    # under static friction nothing accumulates (docs/explanation/stopping.md); with
     # another effect it is left at -1 (does not apply).
     paper_model = spec.friction.kind == "coulomb" and spec.ramp is None
     for i in range(k):

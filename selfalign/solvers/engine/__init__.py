@@ -94,7 +94,7 @@ They make every zero-length step change the mode, so there is no Zeno loop:
 5. A mass exactly on a zone boundary belongs to the region it moves into (stuck: x = x_mu
    counts as low friction, x = x_mu + w as high friction).
 
-Outcome decisions (:func:`.drive.drive`, README "Solvers")
+Outcome decisions (:func:`.drive.drive`, docs/explanation/solvers.md)
 ----------------------------------------------------------
 REST at a stick where r mu_bar(x) >= the stepper's rest acceleration (max|y''|; Moreau:
 max|impulse| / h); ACCUMULATION at a stick in the transition zone above the previous zone
