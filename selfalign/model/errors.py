@@ -12,11 +12,63 @@ from importlib.util import find_spec
 
 
 class NonPhysicalProfile(ValueError):
-    """The requested three-phase profile has no real solution (the paper's case 0)."""
+    """The requested three-phase profile has no real solution (the paper's case 0).
+
+    The seven constraints of the Appendix (Sect. 4.4.3) have a real solution only while the
+    feasibility number q = sqrt(8 dy (1/y2 + 1/y3)) / dt is at most 1; beyond it lies case 0 of
+    Table 1.  :class:`~selfalign.model.profiles.ThreePhaseProfile` (and its finite-jerk version)
+    raises this error before any work, with one line naming the largest stroke that is
+    physical.  It is a ValueError, so ``except ValueError`` catches it too; scene files report
+    it as a :class:`SceneError` naming the file.
+
+    See Also
+    --------
+    ThreePhaseProfile : The profile whose constructor raises it.
+    classify : Case 0 for such parameters, without raising.
+
+    Examples
+    --------
+    >>> import selfalign as sa
+    >>> try:
+    ...     sa.ThreePhaseProfile(dt=1.0, dy=1.0, y2=1.0, y3=1.0)
+    ... except sa.NonPhysicalProfile as exc:
+    ...     print(exc)
+    no physical three-phase profile (case 0): 8*dy*(1/y2 + 1/y3) = 16 exceeds dt^2 = 1;
+    need dy <= dt^2 / (8 (1/y2 + 1/y3)) = dy / q^2 = 0.0625
+    >>> sa.classify((1.0, 1.0, 1.0, 1.0))
+    0
+    """
 
 
 class SceneError(ValueError):
-    """A scene file or Scene object is invalid; the message names file and key."""
+    """A scene file or Scene object is invalid; the message names file and key.
+
+    Raised before any work starts, with a one-line message naming the offending quantity and
+    what is allowed: by :class:`~selfalign.model.scene.Scene` and
+    :class:`~selfalign.model.scene.Record` for a bad field, and by
+    :func:`~selfalign.io.scene_files.load_scene` and
+    :func:`~selfalign.io.scene_files.scene_from_dict` for a file or mapping that cannot be read,
+    breaks the schema or describes no physical scene (the message then starts with the file
+    and the key).  Design spec files raise its subclass
+    :class:`~selfalign.io.design_spec.DesignSpecError`.  It is a ValueError, so
+    ``except ValueError`` catches it too.
+
+    See Also
+    --------
+    load_scene : Reads a scene file.
+    scene_from_dict : Builds a scene from a mapping.
+
+    Examples
+    --------
+    >>> import selfalign as sa
+    >>> layout = {"profile": {"kind": "three_phase", "dt": 1.05, "dy": 0.084, "y2": 2.2, "y3": 0.9},
+    ...           "horizon": {"periods": 0}}
+    >>> try:
+    ...     sa.scene_from_dict(layout, source="demo.yaml")
+    ... except sa.SceneError as exc:
+    ...     print(exc)
+    demo.yaml: horizon.periods: must be >= 1, got 0
+    """
 
 
 def require_extra(module: str, extra: str, needed_by: str) -> None:

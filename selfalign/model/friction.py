@@ -145,7 +145,34 @@ def check_zone_position(x_mu, w) -> None:
 
 
 class Uniform:
-    """Uniform Coulomb friction, mu_bar(x) = 1 everywhere."""
+    """Uniform Coulomb friction, mu_bar(x) = 1 everywhere.
+
+    The table surface without a stop zone: the low-friction coefficient mu is the unit
+    (Sect. 3.2), so the coefficient is 1 at every position.  The steady state, its
+    classification and its stability (Sects. 5 and 6) are taken on this surface.  All
+    instances are equal.
+
+    Attributes
+    ----------
+    kind : str
+        ``"uniform"``, the surface kind of scene files.
+    position_dependent : bool
+        False: mu_bar does not depend on x.
+
+    See Also
+    --------
+    StopZone : A surface with a high-friction region.
+    Scene : Takes the surface (the default is ``Uniform()``).
+
+    Examples
+    --------
+    >>> import selfalign as sa
+    >>> surface = sa.Uniform()
+    >>> surface.coefficient([-1.0, 0.0, 2.5]).tolist()
+    [1.0, 1.0, 1.0]
+    >>> surface == sa.Uniform(), surface.params()
+    (True, {'kind': 'uniform'})
+    """
 
     kind = "uniform"
     position_dependent = False
@@ -171,7 +198,62 @@ class StopZone:
 
     A body of width ``w`` sees the weighted coefficient of eq. (7) with the
     overlap z of eq. (8): mu_bar rises linearly from 1 at x_mu to c_mu at
-    x_mu + w (eq. 9) and stays there.
+    x_mu + w (eq. 9) and stays there.  Before x_mu the surface has the
+    low-friction coefficient mu, the unit (Sect. 3.2).
+
+    Parameters
+    ----------
+    x_mu : float
+        Start of the high-friction region (dimensionless position).  At most
+        :data:`~selfalign.model.friction.MAX_ZONE_POSITION` = 2**32 times ``w`` from 0: positions are reported as
+        x_mu + xi, and farther out doubles cannot resolve the transition of width w (put the
+        origin near the zone; positions are relative).
+    w : float
+        Width of the body, which is the width of the transition (eqs. 7-9); > 0.
+    c_mu : float
+        Coefficient of the high-friction region in units of mu; >= 1 (1: friction 1
+        everywhere, a uniform surface with its origin at x_mu).
+
+    Attributes
+    ----------
+    x_mu, w, c_mu : float
+        The parameters, as floats.
+    b1 : float
+        Slope of mu_bar in the transition region, (c_mu - 1) / w (eq. 42).
+    x_end : float
+        End of the transition region, x_mu + w.
+    kind : str
+        ``"stop_zone"``, the surface kind of scene files.
+    position_dependent : bool
+        True: mu_bar depends on x.
+
+    Raises
+    ------
+    TypeError
+        If ``x_mu``, ``w`` or ``c_mu`` is not a real number (int, float or numpy scalar; bool is
+        refused).
+    ValueError
+        If one of them is not finite, ``w`` <= 0, ``c_mu`` < 1, the transition slope
+        (c_mu - 1) / w overflows, or |x_mu| > 2**32 w.
+
+    See Also
+    --------
+    Uniform : The surface without a stop zone.
+    positioning : Where the steady-state entries into a stop zone end (Sect. 7).
+
+    Examples
+    --------
+    >>> import selfalign as sa
+    >>> zone = sa.StopZone(x_mu=0.5, w=0.05, c_mu=2.5)
+    >>> zone.coefficient([0.4, 0.525, 0.6]).round(6).tolist()
+    [1.0, 1.75, 2.5]
+    >>> print(round(zone.b1, 6), round(zone.x_end, 6))
+    30.0 0.55
+
+    x_stick_min of eq. (41), where permanent stick becomes possible under max|y''| = 2.2:
+
+    >>> print(round(zone.x_stick_min(2.2), 6), zone.x_stick_min(0.9), zone.x_stick_min(3.0))
+    0.54 -inf inf
     """
 
     kind = "stop_zone"

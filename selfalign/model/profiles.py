@@ -81,7 +81,70 @@ class PiecewiseConstantProfile(Profile):
     Piece ``i`` spans ``[breaks[i], breaks[i+1])`` of the period and has
     constant table acceleration ``accels[i]``; ``y_start``, ``yd_start`` are
     y and y' at t = 0.  Pieces of zero length are dropped so that the
-    solvers never see an empty interval.
+    solvers never see an empty interval.  y'' must have zero mean over the
+    period, else the table velocity would drift (the sum of ``accels`` times the
+    piece lengths may differ from 0 only by the rounding of the breaks).  y and y'
+    are integrated piece by piece, so both are continuous.  The exact solver
+    integrates such a profile in closed form; the three-phase profile
+    (Sect. 4.4.3) and the second-order polynomial profile (Sect. 4.2) are of
+    this kind.
+
+    Parameters
+    ----------
+    breaks : array_like
+        1-D, one entry more than ``accels``: finite, starting at 0, never
+        decreasing and ending at the period dt > 0.
+    accels : array_like
+        The constant table acceleration y'' of each piece; finite.
+    y_start : float
+        Table position y at t = 0.
+    yd_start : float
+        Table velocity y' at t = 0.
+
+    Attributes
+    ----------
+    dt : float
+        The period, ``breaks[-1]``.
+    breaks, accels : numpy.ndarray
+        The pieces, those of zero length dropped.
+    piece_velocity, piece_position : numpy.ndarray
+        y' and y at the start of every piece and at the end of the period.
+    switch_times : numpy.ndarray
+        Times within [0, dt) at which y'' jumps (piece starts after the first).
+    max_abs_acceleration : float
+        max |y''|.
+    velocity_swing : float
+        max y' - min y': the velocity scale of the motion (|x'| <= it in steady state).
+    piecewise_constant : bool
+        True: y'' is constant between the times of ``switch_times``.
+
+    Raises
+    ------
+    TypeError
+        If ``y_start`` or ``yd_start`` is not a real number.
+    ValueError
+        If ``y_start`` or ``yd_start`` is not finite; if ``breaks`` is not 1-D with at
+        least two entries and one more than ``accels``, is not finite, does not start at 0,
+        decreases or does not end above 0; if ``accels`` is not finite; if y'' does not
+        average to zero over the period; or if the table motion overflows double precision.
+
+    See Also
+    --------
+    ThreePhaseProfile : The paper's three-phase profile (Sect. 4.4.3).
+    PolynomialProfile : The second-order polynomial profile (Sect. 4.2).
+
+    Examples
+    --------
+    A square wave of y'' (the piece of zero length at 0.5 is dropped):
+
+    >>> import selfalign as sa
+    >>> profile = sa.PiecewiseConstantProfile([0.0, 0.5, 0.5, 1.0], [2.0, 5.0, -2.0], y_start=0.0, yd_start=-0.5)
+    >>> profile.accels.tolist(), profile.switch_times.tolist(), profile.dt
+    ([2.0, -2.0], [0.5], 1.0)
+    >>> profile.velocity([0.0, 0.25, 0.5, 0.75]).tolist()
+    [-0.5, 0.0, 0.5, 0.0]
+    >>> profile.max_abs_acceleration, profile.velocity_swing
+    (2.0, 1.0)
     """
 
     piecewise_constant = True
@@ -223,8 +286,76 @@ def three_phase_times(dt, dy, y2, y3) -> ThreePhaseTimes:
 
 
 class ThreePhaseProfile(PiecewiseConstantProfile):
-    """Three constant-acceleration intervals (Fig. 7): 0 on [0, t1), -y2 on
+    """The paper's three-phase table motion of Sect. 4.4.3 (Fig. 7).
+
+    Three constant-acceleration intervals: 0 on [0, t1), -y2 on
     [t1, t2), +y3 on [t2, t3 = dt).  ``y2`` and ``y3`` are positive magnitudes.
+    The switch times and the start state solve the seven constraints of the
+    Appendix in closed form (:func:`~selfalign.model.profiles.three_phase_times`:
+    zero-mean y'' and y', the stroke ``dy``, min y = 0).  A physical profile exists
+    iff the feasibility number q = sqrt(8 dy (1/y2 + 1/y3)) / dt is at most 1;
+    beyond it lies case 0 of Table 1.  Every parameter is dimensionless, in units of
+    the friction scale of Sect. 3.2, and lies in [1e-30, 1e30]
+    (:data:`~selfalign.model.profiles.MAX_SCALE`).  As a
+    :class:`PiecewiseConstantProfile` it is integrated in closed form by the exact
+    solver.
+
+    Parameters
+    ----------
+    dt : float
+        Period.
+    dy : float
+        Stroke, max y - min y.
+    y2 : float
+        Magnitude of the deceleration, y'' = -y2 on [t1, t2).
+    y3 : float
+        Magnitude of the acceleration, y'' = +y3 on [t2, dt).
+
+    Attributes
+    ----------
+    dt, dy, y2, y3 : float
+        The parameters, as floats.
+    t0, t1, t2, t3 : float
+        The switch times, t0 = 0 and t3 = dt.
+    y_ini, yd_ini : float
+        y and y' at t = 0 (during the dwell, y' = yd_ini > 0).
+    t_top, t_bottom : float
+        The times at which y' crosses zero downwards (y = dy, the maximum) and
+        upwards (y = 0, the minimum).
+    feasibility : float
+        q of :func:`~selfalign.model.profiles.three_phase_feasibility`; case 0 is q > 1.
+    breaks, accels : numpy.ndarray
+        The three pieces as a :class:`PiecewiseConstantProfile` (a dwell of zero
+        length, t1 = 0 at q = 1, is dropped).
+    kind : str
+        ``"three_phase"``, the profile kind of scene files.
+
+    Raises
+    ------
+    TypeError
+        If a parameter is not a real number.
+    ValueError
+        If a parameter is not finite, not > 0 or outside [1e-30, 1e30], or if an
+        acceleration phase loses its length in double precision.
+    NonPhysicalProfile
+        If no physical profile exists (case 0: 8 dy (1/y2 + 1/y3) > dt^2); the message
+        names the largest stroke that is physical.
+
+    See Also
+    --------
+    steady_state : Its steady state on a uniform surface (Sect. 5.1).
+    classify : Its case of Table 1.
+
+    Examples
+    --------
+    >>> import selfalign as sa
+    >>> profile = sa.ThreePhaseProfile(dt=1.05, dy=0.084, y2=2.2, y3=0.9)  # the Fig. 18 profile
+    >>> print(round(profile.t1, 6), round(profile.t2, 6), profile.t3)
+    0.159637 0.418129 1.05
+    >>> print(round(profile.feasibility, 6), round(profile.yd_ini, 6))
+    0.976885 0.241112
+    >>> profile.acceleration([0.0, 0.3, 1.0]).tolist()
+    [0.0, -2.2, 0.9]
     """
 
     kind = "three_phase"
@@ -529,6 +660,48 @@ class PolynomialProfile(PiecewiseConstantProfile):
     is continuous and zero at the stroke ends.  Stroke ``dy`` is exact, y has
     zero mean over a period (y runs from -dy/2 to +dy/2) and is periodic.
     Accelerations: +-4 dy / (f dt)^2 forward, -+4 dy / ((1 - f) dt)^2 back.
+
+    Parameters
+    ----------
+    dt : float
+        Period, in [1e-30, 1e30] (dimensionless,
+        :data:`~selfalign.model.profiles.MAX_SCALE`).
+    dy : float
+        Stroke, in [1e-30, 1e30].
+    forward_fraction : float, default 0.8
+        f, the fraction of the period taken by the forward stroke; in (0, 1).
+
+    Attributes
+    ----------
+    dt, dy, forward_fraction : float
+        The parameters, as floats.
+    breaks, accels : numpy.ndarray
+        The four parabolas as a :class:`PiecewiseConstantProfile`.
+    kind : str
+        ``"polynomial"``, the profile kind of scene files.
+
+    Raises
+    ------
+    TypeError
+        If a parameter is not a real number.
+    ValueError
+        If ``dt`` or ``dy`` is not finite, not > 0 or outside [1e-30, 1e30], or
+        ``forward_fraction`` is not finite or outside (0, 1).
+
+    See Also
+    --------
+    ThreePhaseProfile : The profile the paper optimises (Sect. 4.4.3).
+
+    Examples
+    --------
+    >>> import selfalign as sa
+    >>> profile = sa.PolynomialProfile(dt=1.0, dy=0.1)
+    >>> profile.breaks.tolist()
+    [0.0, 0.4, 0.8, 0.9, 1.0]
+    >>> profile.accels.round(6).tolist()
+    [0.625, -0.625, -10.0, 10.0]
+    >>> profile.position([0.0, 0.8]).round(6).tolist()
+    [-0.05, 0.05]
     """
 
     kind = "polynomial"
@@ -561,7 +734,62 @@ class FourierProfile(Profile):
 
     Zero mean by construction.  ``stroke``, ``peak_velocity`` and
     ``peak_acceleration`` are the constraint quantities of the shape
-    optimisation, evaluated on a fine grid refined by Newton steps.
+    optimisation, evaluated on a fine grid refined by Newton steps.  The
+    profile is smooth; the exact solver simulates it on a uniform surface,
+    Moreau and ivp on a stop zone too.
+
+    Parameters
+    ----------
+    dt : float
+        Period; > 0.
+    cos_coeffs : array_like
+        a_1 .. a_N, 1-D and finite.
+    sin_coeffs : array_like
+        b_1 .. b_N, 1-D, finite and as long as ``cos_coeffs``.
+
+    Attributes
+    ----------
+    dt : float
+        The period.
+    cos_coeffs, sin_coeffs : numpy.ndarray
+        The coefficients, as float arrays.
+    order : int
+        N, the number of harmonics.
+    omega : numpy.ndarray
+        The angular frequencies 2 pi k / dt, k = 1..N.
+    stroke : float
+        max y - min y.
+    peak_velocity, peak_acceleration : float
+        max |y'| and max |y''|.
+    max_abs_acceleration : float
+        max |y''|, the same as ``peak_acceleration``.
+    velocity_swing : float
+        max y' - min y'.
+    kind : str
+        ``"fourier"``, the profile kind of scene files.
+
+    Raises
+    ------
+    TypeError
+        If ``dt`` is not a real number.
+    ValueError
+        If ``dt`` is not finite and > 0, the coefficients are not 1-D arrays of equal
+        length, or a coefficient is not finite.
+
+    See Also
+    --------
+    ThreePhaseProfile : The piecewise-constant optimum of Sect. 4.4.3.
+
+    Examples
+    --------
+    One harmonic, y(t) = 0.05 sin(2 pi t):
+
+    >>> import selfalign as sa
+    >>> profile = sa.FourierProfile(1.0, [0.0], [0.05])
+    >>> profile
+    FourierProfile(dt=1.0, order=1)
+    >>> print(round(profile.stroke, 6), round(profile.peak_velocity, 6), round(profile.peak_acceleration, 6))
+    0.1 0.314159 1.973921
     """
 
     kind = "fourier"
