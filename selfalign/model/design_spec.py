@@ -74,18 +74,97 @@ class DesignGrid:
 
 @dataclass(frozen=True)
 class DesignSpec:
-    """A design problem in SI units (m, s, m/s^2); see the module docstring.
+    """A design problem in SI units (m, s, m/s^2): what a self-aligning station must do.
 
-    ``c_mu``: (low, high), equal for a fixed strip; ``period``: (low, high) in s;
-    ``min_stroke``: the smallest stroke the actuator can make (None: any stroke up to
-    ``max_stroke``; equal to it for a fixed-stroke drive such as a cam);
-    ``accumulation``: require Delta_x_d = 0 (every entry accumulates at x_stick_min);
-    ``objective``: "process_time" (least worst-case process time) or "robustness" (largest
-    mu margin with a worst-case process time <= ``max_process_time``); ``friction``: the
-    friction law on base and strip alike (the paper's Coulomb friction, static/kinetic with
-    mu_s = r mu_k, or Stribeck with its ``v_s`` in m/s, made dimensionless at each mu);
-    ``ramp``: the time [s] over which y'' ramps linearly at each switch of the three-phase
-    profile (finite jerk; None: the paper's jumps).
+    The input of :func:`~selfalign.analysis.design.design` (module docstring of
+    :mod:`selfalign.model.design_spec`).  A spec names the machine (friction coefficient mu
+    of the base surface and its relative uncertainty, the friction ratio c_mu of the
+    high-friction strip, gravity), the part (its width, the transition width w of
+    eqs. 7-9), the actuator's limits (stroke, |acceleration|, period range) and the task
+    (distance to the strip, positioning tolerance, objective).  Every check raises before
+    any work, with one line naming the key.  Design spec files are read by
+    :func:`~selfalign.io.design_spec.load_design_spec`.
+
+    Parameters
+    ----------
+    mu : float
+        Friction coefficient of the base surface (the kinetic one under static/kinetic or
+        Stribeck friction); > 0.
+    mu_uncertainty : float
+        Relative uncertainty delta of mu, in [0, 1): the design must hold for every mu in
+        [mu (1 - delta), mu (1 + delta)].
+    c_mu : tuple of float
+        (low, high) of the strip's friction ratio, 1 < low <= high; equal for a fixed strip.
+    width : float
+        Width of the part [m], the transition width w of eqs. 7-9 and the length scale L.
+    max_stroke : float
+        Largest stroke of the actuator [m].
+    max_acceleration : float
+        Largest |y''| of the actuator [m/s^2].
+    period : tuple of float
+        (low, high) of the period in s, low <= high.
+    distance : float
+        Distance [m] from the part to the strip's edge at the start; at most 10 m (the
+        process run simulates every period of the approach).
+    tolerance : float
+        Positioning tolerance [m]; smaller than ``distance`` (the part starts outside the
+        band it is to end in).
+    g : float, default 9.81
+        Gravitational acceleration [m/s^2].
+    accumulation : bool, default False
+        Require Delta_x_d = 0 (every entry accumulates at x_stick_min).
+    objective : {"process_time", "robustness"}, default "process_time"
+        "process_time": the least worst-case process time; "robustness": the largest mu margin
+        with a worst-case process time <= ``max_process_time``.
+    max_process_time : float, optional
+        The process time [s] to keep; required with ``objective="robustness"``.
+    name : str, default "design"
+        The name of the design (a spec file's stem).
+    min_stroke : float, optional
+        The smallest stroke the actuator can make, in (0, max_stroke] (None: any stroke up to
+        ``max_stroke``; equal to it for a fixed-stroke drive such as a cam).
+    grid : DesignGrid, default DesignGrid()
+        Resolution of the search (:class:`~selfalign.model.design_spec.DesignGrid`); at most
+        4,000,000 designs.
+    friction : FrictionLaw, default FrictionLaw()
+        The friction law on base and strip alike (the paper's Coulomb friction, static/kinetic
+        with mu_s = r mu_k, or Stribeck with its ``v_s`` in m/s, made dimensionless at each mu).
+    ramp : float, optional
+        The time [s] over which y'' ramps linearly at each switch of the three-phase profile
+        (finite jerk; None: the paper's jumps); shorter than a third of the longest period and
+        at least 2^-48 times it.
+
+    Attributes
+    ----------
+    mu_range : tuple of float
+        [mu (1 - delta), mu (1 + delta)].
+    c_mu_fixed : bool
+        True when the strip's c_mu is fixed (low == high).
+
+    Raises
+    ------
+    TypeError
+        If a number of the spec is not a real number.
+    ValueError
+        If a value is outside its range above (the message names the key), ``friction`` is
+        not a FrictionLaw, ``grid`` is not a DesignGrid, or the grid holds more than
+        4,000,000 designs.
+
+    See Also
+    --------
+    load_design_spec : Reads a spec from a YAML file.
+    design : Searches and certifies the design of a spec.
+
+    Examples
+    --------
+    >>> import selfalign as sa
+    >>> spec = sa.DesignSpec(mu=0.2, mu_uncertainty=0.05, c_mu=(2.0, 3.0), width=2e-3, max_stroke=1e-3,
+    ...                      max_acceleration=8.0, period=(0.01, 0.1), distance=10e-3, tolerance=250e-6)
+    >>> print(spec.describe())
+    mu = 0.2 +- 5 % (0.19..0.21), c_mu = 2..3, w = 2 mm, stroke <= 1 mm, |y''| <= 8 m/s^2,
+    f = 10..100 Hz, distance 10 mm, tolerance 250 um
+    >>> spec.c_mu_fixed, spec.frequency_range()
+    (False, (10.0, 100.0))
     """
 
     mu: float

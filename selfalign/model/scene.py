@@ -29,7 +29,52 @@ class Record:
 
     ``series`` are sampled ``samples_per_period`` times per period (plus
     every event) — empty means no dense output at all; ``events`` keeps the
-    event log; ``rerun`` writes a rerun recording of the series.
+    event log; ``arcs`` keeps the exact solver's arcs; ``rerun`` writes a rerun
+    recording of the series.  The time ``t`` comes with any series.
+
+    Parameters
+    ----------
+    series : tuple of str, default ()
+        Names of the series to record, from "x", "v", "y", "yd", "ydd", "friction" and
+        "mode" (:data:`~selfalign.model.scene.SERIES`).
+    samples_per_period : int, default 200
+        Dense-output samples per period; an integer in [2, 10,000,000] (an integral float
+        is accepted).
+    events : bool, default False
+        Keep the event log (``Trajectory.events``).
+    arcs : bool, default False
+        Keep the exact solver's arcs.
+    rerun : bool, default False
+        Write a rerun recording of the series; needs at least one series.
+
+    Attributes
+    ----------
+    dense : bool
+        True when ``series`` is not empty (the run has dense output).
+
+    Raises
+    ------
+    TypeError
+        If ``samples_per_period`` is not a real number.
+    SceneError
+        If a series is unknown, ``samples_per_period`` is not an integer in
+        [2, 10,000,000], a flag is not a bool, or ``rerun`` is asked without a series.
+
+    See Also
+    --------
+    Scene : Takes the record in ``record``.
+    Trajectory : Holds what was recorded.
+
+    Examples
+    --------
+    >>> import selfalign as sa
+    >>> record = sa.Record(series=("x", "v"), samples_per_period=50, events=True)
+    >>> record.dense, record.samples_per_period
+    (True, 50)
+    >>> sa.Record(series=("acceleration",))
+    Traceback (most recent call last):
+    ...
+    selfalign.model.errors.SceneError: record.series: unknown series ['acceleration']; allowed: [...]
     """
 
     series: tuple[str, ...] = ()
@@ -66,6 +111,83 @@ class Scene:
     ``phase * dt`` (phase in [0, 1)); the horizon is ``periods`` periods or,
     with ``until="rest"``, until the run reaches a final outcome (at rest for
     good, accumulation, never stops) but at most ``max_periods`` periods.
+    A scene names the table motion, the surface, the start state, the horizon,
+    the solver and what to record, and nothing more; scene files (YAML) are read
+    and validated by :mod:`selfalign.io.scene_files`.  A Scene is immutable;
+    :meth:`replace` makes a validated copy.
+
+    Parameters
+    ----------
+    profile : Profile
+        The table motion y(t), e.g. a :class:`~selfalign.model.profiles.ThreePhaseProfile`.
+    surface : Uniform or StopZone, default Uniform()
+        The friction field mu_bar(x) of the table (Sect. 3.3).
+    friction : FrictionLaw, default FrictionLaw()
+        The :class:`~selfalign.model.friction.FrictionLaw`: the paper's Coulomb friction by
+        default, or static/kinetic or Stribeck friction.
+    x0 : float, default 0.0
+        Relative position at time ``phase * dt``; finite.
+    v0 : float, default 0.0
+        Relative velocity x' at time ``phase * dt``; finite.
+    phase : float, default 0.0
+        Start time as a fraction of the period, in [0, 1).
+    periods : int, optional
+        Simulate this many periods (an integer in [1, 2**53]); excludes ``until="rest"``.
+    until : {None, "periods", "rest"}, optional
+        "rest": run until a final outcome, at most ``max_periods`` periods.  None: "periods"
+        when ``periods`` is given.
+    max_periods : int, default 10000
+        The horizon of ``until="rest"``; an integer in [1, 2**53].
+    method : {"exact", "moreau", "ivp"}, default "exact"
+        The solver :func:`~selfalign.solvers.driver.simulate` uses by default.
+    solver_options : dict, default {}
+        Options of ``method`` (:mod:`selfalign.solvers.methods`), checked when the scene is
+        simulated or loaded from a file.
+    record : Record, default Record()
+        What the run stores besides the end state.
+    name : str, default "scene"
+        The scene's name (a scene file's stem).
+    si : SIScale, optional
+        The SI scale of a scene file given in SI units.
+    description : str, default ""
+        Free text.
+
+    Attributes
+    ----------
+    horizon_periods : int
+        Number of periods to simulate at most: ``periods``, or ``max_periods`` with
+        ``until="rest"``.
+
+    Raises
+    ------
+    TypeError
+        If ``x0``, ``v0``, ``phase``, ``periods`` or ``max_periods`` is not a real number.
+    SceneError
+        If ``profile``, ``surface`` or ``friction`` has the wrong type; ``x0``, ``v0`` or
+        ``phase`` is not finite or ``phase`` lies outside [0, 1); the horizon is missing,
+        gives both ``periods`` and ``until="rest"``, or its counts are not integers in
+        [1, 2**53]; ``method`` is unknown; ``solver_options`` is not a dict; or the recording
+        would need more than 2 GiB.
+
+    See Also
+    --------
+    simulate : Simulates a scene.
+    load_scene : Reads a scene from a YAML file.
+    scene_from_dict : Builds a scene from a mapping in the YAML layout.
+
+    Examples
+    --------
+    The Fig. 18 profile entering a stop zone, run until a final outcome:
+
+    >>> import selfalign as sa
+    >>> profile = sa.ThreePhaseProfile(dt=1.05, dy=0.084, y2=2.2, y3=0.9)
+    >>> scene = sa.Scene(profile, sa.StopZone(x_mu=0.5, w=0.05, c_mu=2.5), until="rest", max_periods=1000)
+    >>> scene.until, scene.horizon_periods
+    ('rest', 1000)
+    >>> scene.to_dict()["horizon"]
+    {'until': 'rest', 'max_periods': 1000}
+    >>> scene.replace(x0=0.1).x0
+    0.1
     """
 
     profile: Profile
