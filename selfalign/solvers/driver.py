@@ -79,8 +79,68 @@ def simulate(scene: Scene, method: str | None = None, **options) -> Trajectory:
     """Simulate ``scene`` with ``method`` ("exact", "moreau" or "ivp").
 
     ``method`` and ``options`` default to the scene's solver block; options given here
-    override the scene's.  Bad input raises ``ValueError`` before any work starts; a run
+    override the scene's (with another method than the scene's, only the options given
+    here apply).  Bad input raises ``ValueError`` before any work starts; a run
     that cannot finish reports it in ``Trajectory.status`` and ``message``.
+
+    The exact solver (event-driven, closed-form arcs) and Moreau time-stepping are the
+    steppers of one compiled driver, which owns the horizon, the outcome decisions and the
+    fast-forward of repeating periods; ``ivp`` (scipy's solve_ivp) steps in Python and calls
+    the same compiled decisions.  The first call of a process compiles the driver's entry
+    point unless numba's on-disk cache holds it (:mod:`selfalign.solvers.jit`).
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene: profile, surface, friction law, start state, horizon and record.
+    method : {"exact", "moreau", "ivp"}, optional
+        The solver; None: the scene's ``method``.
+    **options
+        Options of the method (:mod:`selfalign.solvers.methods`): ``accumulation_tol`` (every
+        method), ``max_events`` (exact, ivp), ``h``, ``steps_per_period``, ``iteration``,
+        ``fp_tol``, ``fp_max_iter`` (moreau), ``rtol``, ``atol``, ``integrator`` (ivp).
+
+    Returns
+    -------
+    Trajectory
+        The end state, its status, reason and message, and the series, event log and arcs
+        the scene's record asked for.
+
+    Raises
+    ------
+    TypeError
+        If ``scene`` is not a Scene, or an option that takes a number gets something else.
+    ValueError
+        If the method or an option is unknown, an option value is not allowed, or the method
+        cannot simulate the scene (e.g. the exact solver with a Fourier profile on a stop
+        zone or with Stribeck friction, a Moreau horizon of more than 1e10 steps, an
+        ``accumulation_tol`` above 1e-6 of the zone width).
+    selfalign.solvers.jit.KernelError
+        If numba is missing or cannot compile the kernel.
+
+    See Also
+    --------
+    simulate_batch : Many runs at once through the same compiled driver.
+    load_scene : Reads a scene file.
+
+    Examples
+    --------
+    The Fig. 18 profile entering a stop zone accumulates at x_stick_min (eq. 41):
+
+    >>> import selfalign as sa
+    >>> profile = sa.ThreePhaseProfile(dt=1.05, dy=0.084, y2=2.2, y3=0.9)
+    >>> scene = sa.Scene(profile, sa.StopZone(x_mu=0.5, w=0.05, c_mu=2.5), until="rest", max_periods=1000)
+    >>> traj = sa.simulate(scene)
+    >>> print(traj.status.value, round(traj.x_end, 6), traj.period_end)
+    accumulation 0.54 20
+    >>> print(traj.message)
+    accumulation: stick positions in the transition zone converge to x_stick_min = 0.54 (eq. 41); ...
+
+    The same scene with Moreau time-stepping at 500 steps per period:
+
+    >>> traj = sa.simulate(scene, "moreau", steps_per_period=500)
+    >>> print(traj.status.value, round(traj.x_end, 6), round(traj.options["h"], 6))
+    accumulation 0.54 0.0021
     """
     if not isinstance(scene, Scene):
         raise TypeError(f"simulate expects a selfalign.Scene, got {type(scene).__name__}")
@@ -227,19 +287,108 @@ def simulate_batch(profiles, x0, v0=0.0, phase=0.0, *, profile_index=None, surfa
                    fast_forward: bool = True, friction: FrictionLaw | None = None, **options) -> BatchResult:
     """Many trajectories through the same compiled driver as :func:`simulate`.
 
-    ``profiles``: one profile, a sequence of profiles, or a
-    :class:`~selfalign.solvers.tables.ProfileTable` (vectorised three-phase sweeps);
-    ``profile_index`` picks each member's profile (default: all the one profile, or one
-    profile per member).  ``x0``, ``v0`` hold at time ``phase * dt`` (scalars or one per
-    member; Moreau needs one phase for all).  The surface: ``surface`` (Uniform or one
-    StopZone for all) or per-member arrays ``x_mu``, ``w``, ``c_mu`` (``c_mu == 1`` is a
-    uniform surface).  ``levels`` (L,) or (B, L): absolute positions whose first crossing
-    is recorded (after x_mu and x_mu + w).  ``until``: "periods" (``periods``), "rest"
-    (at most ``max_periods``) or "stick" (the first stick event).  ``options``: those of
-    ``method`` (:mod:`selfalign.solvers.methods`).  ``max_cycle``: the longest period of
-    a repeating motion that is recognised; ``fast_forward=False`` simulates every period
-    even when the period-boundary state repeats (benchmarks).  ``friction``: the
-    :class:`~selfalign.model.friction.FrictionLaw` of every member (default Coulomb).
+    Every member is one run: its profile, start state and surface may differ, the method,
+    its options, the horizon and the friction law are shared.  Per-member inputs are
+    scalars or 1-D arrays of one common length B, the number of members; the records of a
+    call may take at most 2 GiB (:data:`~selfalign.solvers.driver.BATCH_MEMORY_LIMIT`,
+    estimated before any is allocated: simulate more members in parts).  ``ivp`` is not offered here (use
+    :func:`simulate`).
+
+    Parameters
+    ----------
+    profiles : Profile, sequence of Profile, or ProfileTable
+        One profile, a sequence of profiles, or a
+        :class:`~selfalign.solvers.tables.ProfileTable` (vectorised three-phase sweeps); a
+        batch runs one kind of profile (all piecewise-constant, or all Fourier).
+    x0 : float or array_like
+        Start position at time ``phase * dt`` (scalar or one per member).
+    v0 : float or array_like, default 0.0
+        Start velocity at time ``phase * dt`` (scalar or one per member).
+    phase : float or array_like, default 0.0
+        Start time as a fraction of the period, in [0, 1) (scalar or one per member; Moreau
+        needs one phase for all).
+    profile_index : array_like of int, optional
+        Picks each member's profile (default: all the one profile, or one profile per member).
+    surface : Uniform or StopZone, optional
+        The surface of every member: Uniform or one StopZone for all (a StopZone takes the
+        place of ``x_mu``, ``w``, ``c_mu``; a Uniform surface together with them is refused).
+    x_mu, w, c_mu : float or array_like, optional
+        Per-member stop zones instead of ``surface`` (``c_mu == 1`` is a uniform surface);
+        ``w`` > 0 and ``c_mu`` >= 1.  ``w`` and ``c_mu`` need ``x_mu``.
+    levels : array_like, optional
+        (L,) or (B, L): absolute positions whose first crossing is recorded (after x_mu and
+        x_mu + w); not NaN (+inf: never reached).
+    until : {"rest", "periods", "stick", "cycle"}, default "rest"
+        "periods" (``periods``), "rest" (at most ``max_periods``), "stick" (the first stick
+        event) or "cycle" (until the period-boundary state repeats, at most ``max_periods``).
+    periods : int, optional
+        The horizon of ``until="periods"``.
+    max_periods : int, default 10000
+        The horizon of the other rules.
+    method : {"exact", "moreau"}, default "exact"
+        The compiled solver.
+    max_cycle : int, default 8
+        The longest period of a repeating motion that is recognised, in [1, 1024].
+    fast_forward : bool, default True
+        False simulates every period even when the period-boundary state repeats (benchmarks).
+    friction : FrictionLaw, optional
+        The :class:`~selfalign.model.friction.FrictionLaw` of every member (default Coulomb).
+    **options
+        Those of ``method`` (:mod:`selfalign.solvers.methods`).
+
+    Returns
+    -------
+    BatchResult
+        Per-member end states, reasons and status codes, zone statistics and the first
+        crossing of every boundary.
+
+    Raises
+    ------
+    TypeError
+        If an option that takes a number gets something else, a per-member input does not
+        hold real numbers, ``profile_index`` does not hold integers, or ``periods`` or
+        ``max_periods`` is not a number.
+    ValueError
+        If the method or an option is unknown or not allowed (``ivp``; Stribeck friction
+        with the exact solver; a Moreau horizon of more than 1e10 steps); ``friction`` is
+        not a FrictionLaw; ``until`` is unknown or its horizon is missing or not an integer
+        >= 1; ``max_cycle`` is outside [1, 1024]; ``profiles`` holds no profile or mixes
+        kinds; per-member inputs are not scalars or 1-D of one length, or not finite;
+        ``profile_index`` lies outside the profiles; ``phase`` lies outside [0, 1) (or
+        differs between Moreau members); a Uniform ``surface`` comes with ``x_mu``, ``w``
+        or ``c_mu``, or ``w``, ``c_mu`` come without ``x_mu``; a zone has ``w`` <= 0,
+        ``c_mu`` < 1, |x_mu| > 2**32 w or an ``accumulation_tol`` above 1e-6 of w; the exact
+        solver gets a Fourier profile on a stop zone; ``levels`` holds NaN; or the records
+        would exceed 2 GiB.
+    selfalign.solvers.jit.KernelError
+        If numba is missing or cannot compile the kernel.
+
+    See Also
+    --------
+    simulate : One scene, every method, with dense output and event logs.
+    positioning : Steady-state entries into a stop zone, built on this function.
+
+    Examples
+    --------
+    Four entries of the Fig. 18 profile into a stop zone (status codes index
+    ``list(sa.Status)``):
+
+    >>> import numpy as np
+    >>> import selfalign as sa
+    >>> profile = sa.ThreePhaseProfile(dt=1.05, dy=0.084, y2=2.2, y3=0.9)
+    >>> zone = sa.StopZone(x_mu=0.5, w=0.05, c_mu=2.5)
+    >>> batch = sa.simulate_batch(profile, np.linspace(-0.06, 0.0, 4), surface=zone, max_periods=1000)
+    >>> [list(sa.Status)[code].value for code in batch.status]
+    ['accumulation', 'accumulation', 'rest', 'accumulation']
+    >>> batch.x_end.round(6).tolist()
+    [0.54, 0.54, 0.540866, 0.54]
+
+    Two profiles on a uniform surface, one member each: both walk forward for ever.
+
+    >>> slip_slip = sa.ThreePhaseProfile(dt=1.0, dy=0.084, y2=1.4, y3=1.3)
+    >>> batch = sa.simulate_batch([profile, slip_slip], 0.0, max_periods=100)
+    >>> [status.value for status in batch.statuses()], batch.advance.round(6).tolist()
+    (['never_stops', 'never_stops'], [0.065412, 0.009778])
     """
     options = resolve(method, options)
     friction = FrictionLaw() if friction is None else friction

@@ -13,7 +13,43 @@ from enum import Enum, IntEnum
 
 
 class Status(str, Enum):
-    """How a run ended."""
+    """How a run ended.
+
+    One vocabulary for how every run ends, scalar and batch, for every method: a run ends
+    for one :class:`Reason`, and each reason belongs to one status.  Status is a ``str``
+    enum, so each member equals its value.  :class:`~selfalign.solvers.results.BatchResult`
+    stores status codes, the index of a status in ``list(Status)``.
+
+    Attributes
+    ----------
+    HORIZON : str
+        "horizon": the requested horizon was simulated, or no final outcome within
+        max_periods.
+    REST : str
+        "rest": stuck where mu_bar(x) >= max|y''|: at rest for good.
+    ACCUMULATION : str
+        "accumulation": stick positions converge geometrically to a limit (Sect. 7.3).
+    NEVER_STOPS : str
+        "never_stops": keeps moving without coming to rest (periodic or walking).
+    ERROR : str
+        "error": the solver could not continue; see the message.
+
+    See Also
+    --------
+    Reason : The detail behind a status.
+    Trajectory : Carries the status of one run.
+    BatchResult : Carries the status codes of a batch.
+
+    Examples
+    --------
+    >>> import selfalign as sa
+    >>> [status.value for status in sa.Status]
+    ['horizon', 'rest', 'accumulation', 'never_stops', 'error']
+    >>> sa.Status("rest") is sa.Status.REST, sa.Status.REST == "rest"
+    (True, True)
+    >>> list(sa.Status).index(sa.Status.ACCUMULATION)  # its status code in a BatchResult
+    2
+    """
 
     HORIZON = "horizon"            #: the requested horizon was simulated, or no final outcome within max_periods
     REST = "rest"                  #: stuck where mu_bar(x) >= max|y''|: at rest for good
@@ -23,7 +59,60 @@ class Status(str, Enum):
 
 
 class Reason(IntEnum):
-    """Why a run ended: the detail behind its :class:`Status` (codes stored in results)."""
+    """Why a run ended: the detail behind its :class:`Status` (codes stored in results).
+
+    Each reason belongs to one status (its ``status`` property) and has one message template
+    (:data:`~selfalign.solvers.outcomes.MESSAGES`).  The compiled driver writes reason codes,
+    and the Python results turn them into a status and a message.
+
+    Attributes
+    ----------
+    PERIODS : int
+        0, HORIZON: until='periods', the requested periods were simulated.
+    MAX_PERIODS : int
+        1, HORIZON: until='rest', max_periods reached outside the stop zone (or on a uniform
+        surface).
+    BOUNDED : int
+        2, HORIZON: until='rest', max_periods reached after entering the zone, no outcome,
+        no cycle.
+    FIRST_STICK : int
+        3, HORIZON: until='stick', the first stick event.
+    REST : int
+        4, REST: a stick where mu_bar(x) >= max|y''|.
+    ACCUMULATION : int
+        5, ACCUMULATION: zone stick positions converge to x_stick_min (eq. 41).
+    PERIODIC : int
+        6, NEVER_STOPS: the period-boundary state repeats with no net progress.
+    WALK_FORWARD : int
+        7, NEVER_STOPS: steady forward walk on uniform friction or through the high-friction
+        region.
+    WALK_BACKWARD : int
+        8, NEVER_STOPS: steady backward walk (away from the zone).
+    MAX_EVENTS : int
+        9, ERROR: the event budget max_events was used up.
+    STALL : int
+        10, ERROR: events without time advancing (a broken invariant, never a hang).
+    NONFINITE : int
+        11, ERROR: the arithmetic overflowed (extreme scales); the last finite state is kept.
+    SOLVER_FAILED : int
+        12, ERROR: the underlying integrator failed (ivp).
+    status : Status
+        The status the reason belongs to.
+
+    See Also
+    --------
+    Status : The outcome a reason details.
+
+    Examples
+    --------
+    >>> import selfalign as sa
+    >>> sa.Reason.ACCUMULATION.status
+    <Status.ACCUMULATION: 'accumulation'>
+    >>> int(sa.Reason.ACCUMULATION), sa.Reason(11).name
+    (5, 'NONFINITE')
+    >>> [reason.name for reason in sa.Reason if reason.status is sa.Status.ERROR]
+    ['MAX_EVENTS', 'STALL', 'NONFINITE', 'SOLVER_FAILED']
+    """
 
     PERIODS = 0        #: HORIZON: until='periods', the requested periods were simulated
     MAX_PERIODS = 1    #: HORIZON: until='rest', max_periods reached outside the stop zone (or on a uniform surface)
@@ -123,7 +212,42 @@ def message(reason: Reason, **fields) -> str:
 
 
 class EventKind(IntEnum):
-    """Kinds of events in the event log (the code stored in ``events['kind']``)."""
+    """Kinds of events in the event log (the code stored in ``events['kind']``).
+
+    The exact solver and ivp log the events of a run when the scene's
+    :class:`~selfalign.model.scene.Record` asks for them (``events=True``); Moreau
+    time-stepping locates no events.
+
+    Attributes
+    ----------
+    SWITCH : int
+        0: the table acceleration jumps (a profile switch time).
+    STICK : int
+        1: slip ends in stick (relative velocity reaches zero and |y''| <= mu_bar).
+    SLIP : int
+        2: stick ends: |y''| exceeds mu_bar.
+    REVERSAL : int
+        3: the relative velocity passes through zero and the slip changes direction.
+    ZONE : int
+        4: the body crosses x_mu or x_mu + w.
+
+    See Also
+    --------
+    Trajectory : Holds the event log in ``events``.
+
+    Examples
+    --------
+    One period of the Fig. 18 profile from rest on a uniform surface: the mass sticks
+    through the dwell, slips forward from t1 and sticks again after t2.
+
+    >>> import selfalign as sa
+    >>> profile = sa.ThreePhaseProfile(dt=1.05, dy=0.084, y2=2.2, y3=0.9)
+    >>> traj = sa.simulate(sa.Scene(profile, periods=1, record=sa.Record(events=True)))
+    >>> [sa.EventKind(kind).name for kind in traj.events["kind"]]
+    ['SWITCH', 'SLIP', 'SWITCH', 'STICK']
+    >>> traj.events["tau"].round(6).tolist()
+    [0.159637, 0.159637, 0.418129, 0.581388]
+    """
 
     SWITCH = 0    #: the table acceleration jumps (a profile switch time)
     STICK = 1     #: slip ends in stick (relative velocity reaches zero and |y''| <= mu_bar)

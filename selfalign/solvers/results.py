@@ -29,7 +29,78 @@ class Trajectory:
     None; ``arcs`` the exact solver's arcs (:data:`~selfalign.solvers.records.ARC_DTYPE`,
     absolute x) when asked for; ``stats`` holds ``events``, ``steps``, ``cpu_time``;
     ``info`` outcome details (e.g. ``limit``, ``contraction`` of an accumulation,
-    ``net_advance`` of a walk).
+    ``net_advance`` of a walk).  Like scipy's ``OdeResult``: the end state, a
+    :class:`~selfalign.solvers.outcomes.Status` with its
+    :class:`~selfalign.solvers.outcomes.Reason` and a message (the same vocabulary as
+    :class:`BatchResult`, :mod:`selfalign.solvers.outcomes`); dense series, the event log
+    and the arcs only when the scene's :class:`~selfalign.model.scene.Record` asked for
+    them.  The recorded series also read as attributes (``traj.x``).
+
+    Parameters
+    ----------
+    x_end, v_end : float
+        The final state x, x' (for an accumulation, the limit).
+    period_end : int
+        Completed periods at the end.
+    tau_end : float
+        Time within the period at the end.
+    status : Status
+        How the run ended.
+    reason : Reason
+        Why it ended.
+    message : str or callable
+        The outcome message in words; a callable is formatted on first read.
+    method : str
+        The solver that ran: "exact", "moreau" or "ivp".
+    options : dict
+        The solver options used (defaults filled in; Moreau adds the step ``h`` used).
+    series : dict
+        Recorded name -> array (empty without dense output).
+    events : numpy.ndarray or None
+        The event log (:class:`~selfalign.solvers.outcomes.EventKind` codes in ``kind``).
+    arcs : numpy.ndarray or None
+        The exact solver's arcs.
+    stats : dict
+        ``events``, ``steps`` and ``cpu_time`` [s] of the run.
+    info : dict
+        Outcome details, e.g. ``origin``, ``x_stick_min`` on a stop zone, ``limit``,
+        ``contraction`` of an accumulation, ``net_advance`` and ``cycle_periods`` of a
+        never-stopping motion.
+
+    Attributes
+    ----------
+    success : bool
+        False when the status is ERROR.
+    t, x, v, y, yd, ydd, friction, mode : numpy.ndarray
+        The recorded series of those names (``series[name]``).
+
+    Raises
+    ------
+    AttributeError
+        On reading a series (``t``, ``x``, ...) that was not recorded; the message says to
+        add it to the scene's ``record.series``.
+
+    See Also
+    --------
+    simulate : Returns a Trajectory.
+    BatchResult : The outcome of many runs.
+
+    Examples
+    --------
+    >>> import selfalign as sa
+    >>> profile = sa.ThreePhaseProfile(dt=1.05, dy=0.084, y2=2.2, y3=0.9)
+    >>> scene = sa.Scene(profile, periods=3, record=sa.Record(series=("x",), samples_per_period=4))
+    >>> traj = sa.simulate(scene)
+    >>> traj.status, traj.success, traj.period_end
+    (<Status.HORIZON: 'horizon'>, True, 3)
+    >>> print(traj.message)
+    simulated 3 periods (0 by steady-state fast-forward)
+    >>> traj.x[:8].round(4).tolist()
+    [0.0, 0.0, 0.0063, 0.0401, 0.0624, 0.0654, 0.0654, 0.0654]
+    >>> traj.v
+    Traceback (most recent call last):
+    ...
+    AttributeError: series 'v' was not recorded; add it to the scene's record.series
     """
 
     x_end: float
@@ -81,6 +152,82 @@ class BatchResult:
     on a uniform surface); ``crossings`` (B, nb) of
     :data:`~selfalign.solvers.records.CROSS_DTYPE`: the first time x reached each
     (period -1: never), the velocity there and the stick events at x >= x_mu before it.
+    Each member ends with a :class:`~selfalign.solvers.outcomes.Reason` and its
+    :class:`~selfalign.solvers.outcomes.Status`, the vocabulary of :class:`Trajectory`.
+    ``len(result)`` is the number of members B.
+
+    Parameters
+    ----------
+    records : numpy.ndarray
+        (B,) member records.
+    origin : numpy.ndarray
+        (B,) origin of each member's relative positions (x_mu, or x0 on a uniform surface).
+    dt : numpy.ndarray
+        (B,) period of each member's profile.
+    boundaries : numpy.ndarray
+        (B, nb) boundaries whose first crossing is recorded.
+    crossings : numpy.ndarray
+        (B, nb) first crossings of the boundaries.
+    method : str
+        The solver that ran: "exact" or "moreau".
+    options : dict
+        The solver options used (Moreau adds the step ``h`` used).
+    until : str
+        The horizon rule: "periods", "rest", "stick" or "cycle".
+    horizon : int
+        The horizon in periods (``periods`` or ``max_periods``).
+
+    Attributes
+    ----------
+    reason : numpy.ndarray
+        :class:`~selfalign.solvers.outcomes.Reason` codes (int8).
+    status : numpy.ndarray
+        Status codes (int8): the index of each member's status in ``list(Status)``.
+    x_end, v_end : numpy.ndarray
+        The final state (for an accumulation, the limit), x absolute.
+    period_end, tau_end : numpy.ndarray
+        Completed periods and the time within the period at the end.
+    t_end : numpy.ndarray
+        End times in periods, n_end + tau_end / dt.
+    events, stick_events : numpy.ndarray
+        Number of events and of stick events of each run.
+    zone_sticks : numpy.ndarray
+        Stick events at x >= x_mu.
+    first_stick_x, first_stick_time : numpy.ndarray
+        Position of the first stick at x >= x_mu and its time in periods (NaN if none).
+    contraction : numpy.ndarray
+        Ratio of the last two zone-stick increments of an accumulation (NaN otherwise).
+    advance : numpy.ndarray
+        Net advance per period of a walk or periodic motion (NaN otherwise).
+    cycle : numpy.ndarray
+        Periods per repeat of a never-stopping motion (0 otherwise).
+    x_max : numpy.ndarray
+        The largest x reached.
+
+    See Also
+    --------
+    simulate_batch : Returns a BatchResult.
+    Trajectory : The outcome of one run.
+
+    Examples
+    --------
+    Four entries of the Fig. 18 profile into a stop zone:
+
+    >>> import numpy as np
+    >>> import selfalign as sa
+    >>> profile = sa.ThreePhaseProfile(dt=1.05, dy=0.084, y2=2.2, y3=0.9)
+    >>> zone = sa.StopZone(x_mu=0.5, w=0.05, c_mu=2.5)
+    >>> batch = sa.simulate_batch(profile, np.linspace(-0.06, 0.0, 4), surface=zone, max_periods=1000)
+    >>> len(batch), batch.count()
+    (4, {'horizon': 0, 'rest': 1, 'accumulation': 3, 'never_stops': 0, 'error': 0})
+    >>> [status.value for status in batch.statuses()]
+    ['accumulation', 'accumulation', 'rest', 'accumulation']
+    >>> batch.x_end.round(6).tolist(), batch.zone_sticks.tolist()
+    ([0.54, 0.54, 0.540866, 0.54], [14, 13, 2, 14])
+    >>> batch.crossing_time(0).round(3).tolist()  # first arrival at x_mu, in periods
+    [8.388, 8.311, 7.498, 7.405]
+    >>> print(batch.message(0))
+    accumulation: stick positions in the transition zone converge to x_stick_min = 0.54 (eq. 41); ...
     """
 
     records: np.ndarray
