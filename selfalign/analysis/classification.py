@@ -217,5 +217,50 @@ def profile_parameters(profile_or_params) -> tuple[float, float, float, float]:
 
 
 def classify(profile_or_params) -> int:
-    """Case of Table 1 (0-5) for one three-phase profile or parameter set."""
+    """Case of Table 1 (0-5) for one three-phase profile or parameter set.
+
+    The a-priori classification of the steady state on a uniform surface (Sect. 5, the
+    flow chart of Fig. 8, kept as data in
+    :data:`~selfalign.analysis.classification.DECISION_TREE`).  Cases: 0 non-physical
+    profile, 1 stick-slip with x' >= 0, 2 stick-slip with x' <= 0, 3 general stick-slip,
+    4 slip-slip, 5 pure stick.  The ties |y''| = 1 and v_back = t1 count as stick.  Stick
+    at v = 0 is possible in a phase iff |y''| <= 1, so with y2 <= 1 and y3 <= 1 the mass
+    never leaves v = 0 (case 5), with only y2 > 1 it can only slip forward (case 1), with
+    only y3 > 1 only backward (case 2); with both > 1 it can stick only in the dwell, and
+    the stick recurs iff the backward speed v_back reached at t3 is at most t1 (case 3,
+    else case 4).  :func:`~selfalign.analysis.classification.classify_grid` classifies
+    whole grids.
+
+    Parameters
+    ----------
+    profile_or_params : ThreePhaseProfile, mapping or sequence
+        A :class:`~selfalign.model.profiles.ThreePhaseProfile`, a mapping with the keys
+        dt, dy, y2, y3 (a ``kind`` key, if any, must be "three_phase"), or a tuple or list
+        (dt, dy, y2, y3).  Parameters of a non-physical profile are allowed (case 0).
+
+    Returns
+    -------
+    int
+        The case of Table 1, 0-5.
+
+    Raises
+    ------
+    ValueError
+        If the argument is none of these, the mapping names another kind or misses a key,
+        or a parameter is not finite and > 0.
+
+    See Also
+    --------
+    steady_state : The steady state of the case (Sect. 5.1).
+
+    Examples
+    --------
+    >>> import selfalign as sa
+    >>> sa.classify(sa.ThreePhaseProfile(dt=1.05, dy=0.084, y2=2.2, y3=0.9))  # Fig. 18: stick-slip, x' >= 0
+    1
+    >>> sa.classify({"dt": 1.0, "dy": 0.084, "y2": 1.4, "y3": 1.3})  # Fig. 9: slip-slip
+    4
+    >>> sa.classify((1.0, 0.05, 0.9, 0.8)), sa.classify((1.0, 1.0, 1.0, 1.0))
+    (5, 0)
+    """
     return int(classify_grid(*profile_parameters(profile_or_params)))

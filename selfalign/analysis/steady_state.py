@@ -99,7 +99,42 @@ class SteadyState:
     field is NaN); ``v0``: x' at the profile's t = 0; ``v_max``: the largest
     x' (at t2, 0 without forward slip).  Each motion mode occupies one
     interval [start, start + time) per period, taken modulo dt: ``*_start``
-    is NaN when the mode never occurs, and ``*_time`` sums to dt.
+    is NaN when the mode never occurs, and ``*_time`` sums to dt.  The
+    normalisation c of the objective is
+    :data:`~selfalign.analysis.steady_state.OBJECTIVE_SCALE` = 1e4.
+
+    Parameters
+    ----------
+    vbar : float or numpy.ndarray
+        Average velocity of the mass relative to the table (eq. 10).
+    f : float or numpy.ndarray
+        The objective 1 / (c vbar^2) (eq. 11); inf where vbar = 0.
+    case : int or numpy.ndarray
+        The case of Table 1 (0-5).
+    v0 : float or numpy.ndarray
+        x' at the profile's t = 0.
+    v_max : float or numpy.ndarray
+        The largest x' (at t2; 0 without forward slip).
+    stick_start, stick_time : float or numpy.ndarray
+        Start (NaN: never) and length of the stick interval within the period.
+    forward_start, forward_time : float or numpy.ndarray
+        Start (NaN: never) and length of the forward-slip interval.
+    backward_start, backward_time : float or numpy.ndarray
+        Start (NaN: never) and length of the backward-slip interval.
+
+    See Also
+    --------
+    steady_state : Computes it for one profile.
+    classify : The case alone.
+
+    Examples
+    --------
+    >>> import selfalign as sa
+    >>> state = sa.steady_state(sa.ThreePhaseProfile(dt=1.05, dy=0.084, y2=2.2, y3=0.9))
+    >>> state.case, round(state.vbar, 6), round(state.f, 6)
+    (1, 0.062297, 0.025767)
+    >>> print(round(state.stick_time + state.forward_time + state.backward_time, 12))  # the period dt
+    1.05
     """
 
     vbar: np.ndarray | float
@@ -185,7 +220,52 @@ def steady_state_grid(dt, dy, y2, y3) -> SteadyState:
 
 
 def steady_state(profile_or_params) -> SteadyState:
-    """Steady state of one ThreePhaseProfile (or (dt, dy, y2, y3) tuple / mapping), as floats."""
+    """Steady state of one ThreePhaseProfile (or (dt, dy, y2, y3) tuple / mapping), as floats.
+
+    The closed form of Sects. 5.1 and 6.1 on a uniform surface (mu_bar = 1): the case of
+    Table 1 is decided a priori (:func:`~selfalign.analysis.classification.classify`) and
+    one periodic solution is exhibited per case; it is the steady state, which is unique
+    (Sect. 6.2).  The derivations are in the docstring of
+    :mod:`selfalign.analysis.steady_state`.  Scaling t -> l t, x -> l^2 x leaves the model
+    invariant, so vbar(l dt, l^2 dy) = l vbar(dt, dy).
+    :func:`~selfalign.analysis.steady_state.steady_state_grid` computes whole grids.
+
+    Parameters
+    ----------
+    profile_or_params : ThreePhaseProfile, mapping or sequence
+        A :class:`~selfalign.model.profiles.ThreePhaseProfile`, a mapping with the keys
+        dt, dy, y2, y3 (a ``kind`` key, if any, must be "three_phase"), or a tuple or list
+        (dt, dy, y2, y3).
+
+    Returns
+    -------
+    SteadyState
+        Floats (``case`` an int); for a non-physical profile (case 0) every other field is
+        NaN.
+
+    Raises
+    ------
+    ValueError
+        If the argument is none of these, the mapping names another kind or misses a key,
+        or a parameter is not finite and > 0.
+
+    See Also
+    --------
+    classify : The case of Table 1 alone.
+    floquet : The stability of the steady state (Sect. 6.1).
+
+    Examples
+    --------
+    The Fig. 18 profile (case 1) and a slip-slip profile of Fig. 9 (case 4):
+
+    >>> import selfalign as sa
+    >>> state = sa.steady_state(sa.ThreePhaseProfile(dt=1.05, dy=0.084, y2=2.2, y3=0.9))
+    >>> print(state.case, round(state.vbar, 6), round(state.f, 6), state.v0)
+    1 0.062297 0.025767 0.0
+    >>> state = sa.steady_state((1.0, 0.084, 1.4, 1.3))
+    >>> print(state.case, round(state.vbar, 6), round(state.v0, 6), state.stick_time)
+    4 0.009778 -0.12723 0.0
+    """
     grid = steady_state_grid(*profile_parameters(profile_or_params))
     values = {f.name: float(getattr(grid, f.name)) for f in fields(SteadyState)}
     values["case"] = int(grid.case)
