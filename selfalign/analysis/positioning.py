@@ -272,8 +272,92 @@ def positioning(profile: ThreePhaseProfile, *, w: float, c_mu: float, n_entries:
     ``friction``: a :class:`~selfalign.model.friction.FrictionLaw` (default: the paper's Coulomb
     friction); ``ramp``: y'' ramp time of the finite-jerk version of ``profile`` (0: the paper's).
     The entries run with the exact solver where it can simulate them, otherwise with Moreau
-    (:func:`setting_method`; ``method`` of the result says which).  ValueError if the profile's
-    steady state does not move forward (vbar <= 0): then the mass never reaches the zone.
+    (:func:`~selfalign.solvers.tables.setting_method`; ``method`` of the result says which).
+    ValueError if the profile's steady state does not move forward (vbar <= 0): then the mass
+    never reaches the zone.
+
+    Entries (Sect. 7.1, module docstring of :mod:`selfalign.analysis.positioning`): on the
+    uniform surface the steady state is x_s(t) with x_s(0) = 0 and x_s'(0) = v0, and every
+    steady-state approach to the zone is x_s(t) - s for an offset s in [0, vbar dt).  The
+    entries sample s_j = vbar dt (j + offset) / n_entries and start at t = 0 at
+    x0s = -s_j with x' = v0, with the zone at x_mu = Delta_x, the largest displacement within
+    one steady period: no entry touches the zone before its first period ends, and
+    x0s in (-vbar dt, 0] is the paper's range.  Each entry runs until it comes to rest,
+    accumulates or never stops, at most ``max_periods`` periods.  Positioning (eqs. 39-41):
+    overshoot = x_end - x_mu of the entries that stop (REST, or ACCUMULATION, whose end is
+    the limit x_stick_min); Delta_x_d = (max - min) / 2 over them and
+    x_d = x_mu + overshoot_min + Delta_x_d.  Entries that never stop (or stay undecided) are
+    counted separately and left out of the range (NaN when no entry stops).  Under
+    static/kinetic or Stribeck friction or with y'' ramps the steady state has no closed
+    form and is simulated.
+
+    Parameters
+    ----------
+    profile : ThreePhaseProfile
+        The table motion.
+    w : float
+        Width of the body, the transition width (eqs. 7-9); > 0.
+    c_mu : float
+        Coefficient of the high-friction zone; > 1.
+    n_entries : int, default 64
+        Number of entries (offsets s_j); the entries may need at most 2 GiB.
+    offset : float, default 0.5
+        Where the sample starts, as a fraction of the sample spacing; in [0, 1).  Results are
+        independent of it up to the sampling resolution.
+    max_periods : int, default 1000
+        Period budget of an entry: entries without an outcome by then are undecided.  At
+        most 1e10 entry-periods (n_entries x max_periods).
+    accumulation_tol : float, default 1e-12
+        An accumulation ends at a stick within this distance of x_stick_min; at most 1e-6 w.
+    friction : FrictionLaw, optional
+        The friction law (default: the paper's Coulomb friction).
+    ramp : float, default 0.0
+        y'' ramp time of the finite-jerk version of ``profile``; >= 0 (0: the paper's).
+
+    Returns
+    -------
+    Positioning
+        Scalars: ``case``, ``vbar``, ``v0`` of the steady state; ``dx_period`` = Delta_x =
+        ``x_mu``; ``x_stick_min`` (eq. 41, absolute); ``overshoot_min``, ``overshoot_max``
+        over the entries that stop; ``dx_d`` (eq. 39), ``x_d``; the fractions
+        ``frac_accumulate``, ``frac_stop`` (at rest for good without accumulation),
+        ``frac_never_stop`` (periodic or walking), ``frac_undecided`` (no outcome within
+        ``max_periods``); ``accumulation``: "all", "some" or "none" of the entries;
+        ``method``: the solver the entries ran with.  Per entry (arrays of n_entries):
+        ``s``, ``x0``, ``status`` (status codes: the index in ``list(selfalign.Status)``),
+        ``reason``, ``x_end``, ``overshoot`` (NaN unless it stops), ``periods``,
+        ``zone_sticks``, ``first_stick_x``, ``contraction``, ``entry_time``, ``entry_tau``
+        (phase of the first arrival at x_mu) and ``entry_v``.
+
+    Raises
+    ------
+    TypeError
+        If ``w``, ``c_mu``, ``n_entries``, ``offset``, ``max_periods``, ``accumulation_tol``
+        or ``ramp`` is not a real number.
+    ValueError
+        If ``profile`` is not a ThreePhaseProfile; a number is outside its range above or
+        not finite; the entries would need more than 2 GiB or 1e10 entry-periods;
+        ``friction`` is not a FrictionLaw; the ramps do not fit the profile's phases; or the
+        steady state does not move forward.
+
+    See Also
+    --------
+    simulate_batch : Runs the entries.
+    stick_map : The closed-form map of the zone sticks (eq. 59).
+
+    Examples
+    --------
+    The Fig. 18 profile into a zone of width 0.05 at c_mu = 2.5, eight entries:
+
+    >>> import selfalign as sa
+    >>> profile = sa.ThreePhaseProfile(dt=1.05, dy=0.084, y2=2.2, y3=0.9)
+    >>> result = sa.positioning(profile, w=0.05, c_mu=2.5, n_entries=8)
+    >>> print(f"{result.dx_d:.3g}", result.frac_accumulate, result.frac_stop, result.accumulation)
+    0.000675 0.75 0.25 some
+    >>> print(round(result.x_mu, 6), round(result.x_stick_min, 6), round(result.x_d, 6))
+    0.065412 0.105412 0.106086
+    >>> result.method
+    'exact (event-driven, closed-form arcs)'
     """
     return _positioning(profile, w, c_mu, n_entries, offset, max_periods, accumulation_tol, np.empty(0),
                         friction, ramp)[1]

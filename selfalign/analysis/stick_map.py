@@ -90,7 +90,63 @@ def stick_map(x_n, profile: ThreePhaseProfile, *, w: float, c_mu: float, x_mu: f
     Valid while the assumptions of Sect. 7.3 hold (the mass slips forward
     from t1, the velocity stays positive until after t2, and it sticks
     again inside the transition zone during the y3'' part); use
-    :func:`stick_map_validity` to check them.
+    :func:`~selfalign.analysis.stick_map.stick_map_validity` to check them.
+    A mass stuck at x_n in the transition zone x_mu <= x_n < x_f (where
+    mu_bar = y2) stays stuck through the dwell [0, t1), slips forward at t1,
+    moves as the forced oscillator of eq. (42) through [t1, t2), switches
+    forcing at t2 and sticks again where its velocity vanishes: x_{n+1} is the
+    position of the first stick event after t = 0 of a mass stuck at x_n at
+    t = 0.  The map's fixed point is x_f = (b2 + y2) / b1 (eq. 60), which is
+    x_stick_min of eq. (41) only when y2 >= y3, and its derivative there is
+    cos(omega (t2 - t1)).  The paper's eq. (54) has an erratum (d_{1,2} uses
+    b_{3,2}, not b_{3,1}); eq. (59) itself is right (module docstring of
+    :mod:`selfalign.analysis.stick_map`).
+
+    Parameters
+    ----------
+    x_n : array_like
+        Stick positions (absolute); finite.
+    profile : ThreePhaseProfile
+        The table motion (the closed form is derived for the three-phase profile).
+    w : float
+        Width of the body, the transition width (eqs. 7-9); > 0.
+    c_mu : float
+        Coefficient of the high-friction region; > 1.
+    x_mu : float
+        Start of the high-friction region.
+
+    Returns
+    -------
+    numpy.ndarray or numpy.float64
+        x_{n+1} of every x_n, shaped like ``x_n``.
+
+    Raises
+    ------
+    TypeError
+        If ``profile`` is not a ThreePhaseProfile, or ``w``, ``c_mu`` or ``x_mu`` is not a
+        real number.
+    ValueError
+        If the zone is invalid (see :class:`~selfalign.model.friction.StopZone`),
+        ``c_mu`` <= 1, or an ``x_n`` is not finite.
+
+    See Also
+    --------
+    positioning : Simulated entries into the zone, whose sticks this map describes.
+
+    Examples
+    --------
+    The Fig. 18 profile on a zone of width 0.05: sticks accumulate at the fixed point
+    x_f = x_mu + w (y2 - 1) / (c_mu - 1) = 0.54.
+
+    >>> import selfalign as sa
+    >>> profile = sa.ThreePhaseProfile(dt=1.05, dy=0.084, y2=2.2, y3=0.9)
+    >>> x = [0.52]
+    >>> for _ in range(4):
+    ...     x.append(float(sa.stick_map(x[-1], profile, w=0.05, c_mu=2.5, x_mu=0.5)))
+    >>> [round(value, 6) for value in x]
+    [0.52, 0.538842, 0.539828, 0.539974, 0.539996]
+    >>> sa.stick_map([0.52, 0.54], profile, w=0.05, c_mu=2.5, x_mu=0.5).round(6).tolist()
+    [0.538842, 0.54]
     """
     c = stick_map_constants(profile, StopZone(x_mu=x_mu, w=w, c_mu=c_mu))
     d12, d22, _ = _offsets(_positions(x_n), c, profile)
