@@ -363,9 +363,90 @@ def floquet(profile_or_scene, method: str = "analytic", **options) -> FloquetRes
     """Floquet multipliers and monodromy matrix of the steady state (module docstring).
 
     ``profile_or_scene``: a profile (uniform surface, start at t = 0) or a Scene (its
-    surface, start state and phase).  Options (:data:`DEFAULT_OPTIONS`): saltation
+    surface, start state and phase).  Options
+    (:data:`~selfalign.analysis.floquet.DEFAULT_OPTIONS`): saltation
     and numeric ``max_periods``; numeric ``solver`` ("exact" | "moreau"), ``eps``,
     ``h`` (Moreau only).
+
+    The monodromy matrix M = Phi(t0 + k dt, t0) maps a perturbation (dx, dx') of the
+    periodic motion at the period start t0 = phase * dt to the perturbation k periods later
+    (eq. 25; k = 1 except for a k-periodic motion); its eigenvalues are the Floquet
+    multipliers (Sect. 6.1).  The three methods (module docstring of
+    :mod:`selfalign.analysis.floquet`):
+
+    * "analytic": the linearisation of the closed-form one-period map, eqs. (25)-(33), for
+      every case of Table 1 including pure stick (case 5, which the paper leaves out);
+      three-phase profile on a uniform surface at t0 = 0 only.
+    * "saltation": fundamental matrices of the exact solver's smooth arcs joined by
+      saltation matrices at its events (Leine & Nijmeijer, ref. [11] of the paper), for
+      everything the exact solver handles, e.g. a periodic motion inside the transition
+      zone, where both multipliers are below 1.
+    * "numeric": central finite differences of the k-period map (the paper's method 3) with
+      the exact solver or Moreau time-stepping; the time-stepping map is a staircase at the
+      scale of one step, so its default step is eps = sqrt(h).
+
+    The periodic motion is the closed-form steady state for a three-phase profile on a
+    uniform surface at phase 0; otherwise the driver finds it with ``until="cycle"``, running
+    until the period-boundary state repeats with a period k <= 8.
+
+    Parameters
+    ----------
+    profile_or_scene : Profile or Scene
+        A profile (uniform surface, start at t = 0) or a Scene (its surface, start state and
+        phase).
+    method : {"analytic", "saltation", "numeric"}, default "analytic"
+        How the monodromy matrix is computed.
+    **options
+        ``max_periods`` (saltation, numeric; default 10000): the budget of the search for
+        the periodic motion.  Numeric only: ``solver`` ("exact" or "moreau", default
+        "exact"), ``eps`` (the finite-difference step in x and x', in (0, 1); default
+        :data:`~selfalign.analysis.floquet.EXACT_EPS` = 1e-7 with the exact solver,
+        sqrt(h) with Moreau) and ``h`` (the Moreau time step; default dt / 1000).
+
+    Returns
+    -------
+    FloquetResult
+        ``monodromy`` (2x2, of (x, x') over ``motion.periods`` periods), its eigenvalues
+        ``multipliers`` sorted by decreasing modulus (real dtype when both are real), unit
+        ``eigenvectors`` as columns in the same order, the periodic ``motion`` (its start
+        state, ``periods``, ``advance`` per cycle and ``source``: "closed form" or
+        "simulated N periods") and ``info`` (method details: events used, eps, h, ...).
+
+    Raises
+    ------
+    TypeError
+        If the option ``h`` is not a real number.
+    ValueError
+        If the method or an option is unknown or an option value is not allowed;
+        ``profile_or_scene`` is neither a profile nor a Scene; "analytic" is asked outside
+        its domain; no period-boundary state repeats within ``max_periods`` periods (e.g. an
+        accumulation, Sect. 7.3, or a chaotic motion); the orbit grazes (a stick or reversal
+        with x'' = 0 before it, a zone boundary crossed at x' = 0), so that the monodromy
+        matrix does not exist; or the matrix is not finite.
+    selfalign.solvers.jit.KernelError
+        If numba is missing or cannot compile the kernel ("saltation", "numeric", or a
+        periodic motion that is simulated).
+
+    See Also
+    --------
+    steady_state : The steady state whose stability this is.
+    lyapunov_trace : Convergence of the velocity in the time domain (Sect. 6.2).
+
+    Examples
+    --------
+    A slip-slip profile of Fig. 9 (case 4): lambda2 = c4 (eq. 33), three ways.
+
+    >>> import selfalign as sa
+    >>> profile = sa.ThreePhaseProfile(dt=1.0, dy=0.084, y2=1.4, y3=1.3)
+    >>> analytic = sa.floquet(profile)
+    >>> analytic.multipliers.round(6).tolist(), analytic.motion.source
+    ([1.0, 0.021739], 'closed form')
+    >>> analytic.monodromy.round(6).tolist()
+    [[1.0, 0.168454], [0.0, 0.021739]]
+    >>> sa.floquet(profile, method="saltation").multipliers.round(6).tolist()
+    [1.0, 0.021739]
+    >>> sa.floquet(profile, method="numeric", solver="moreau", h=1e-3).multipliers.round(6).tolist()
+    [1.0, 0.023717]
     """
     opts = _check_options(method, options)
     profile, surface, _, _, phase = _system(profile_or_scene)

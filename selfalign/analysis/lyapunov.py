@@ -157,7 +157,66 @@ def lyapunov_trace(profile_or_scene, v10: float, v20: float, periods: int, phase
     """V = (v1 - v2)^2 / 2 of two trajectories on a uniform surface (module docstring).
 
     Both start at time ``phase * dt`` (with a Scene, pass its ``phase``; only its
-    profile is used here, see :func:`scene_trace`).
+    profile is used here, see :func:`~selfalign.analysis.lyapunov.scene_trace`).
+
+    The convergence analysis of Sect. 6.2 (eqs. 34-37, Fig. 13): two trajectories of
+    v' in -Sign(v) - y''(t) (eq. 34) from the initial velocities v10 and v20, and the
+    Lyapunov function V of eq. (35).  Along solutions V' = -(v1 - v2)(s1 - s2) (eq. 36),
+    where s_i in Sign(v_i) is the element the motion selects: sign(v) in slip, -y''(t) in
+    stick.  Intervals are labelled "=" where s1 = s2, so V' = 0, and "!=" where s1 != s2,
+    so V' < 0 whenever V > 0.  Everything is computed from the exact solver's arcs: the
+    breakpoints are both trajectories' event times and the period boundaries, and V is
+    exact at every event (module docstring of :mod:`selfalign.analysis.lyapunov`).
+
+    Parameters
+    ----------
+    profile_or_scene : Profile or Scene
+        The table motion, or a Scene on a uniform surface (only its profile is used).
+    v10, v20 : float
+        Initial relative velocities of the two trajectories; finite.
+    periods : int
+        Number of periods; >= 1.
+    phase : float, default 0.0
+        Start time as a fraction of the period, in [0, 1).
+    samples_per_period : int, default 200
+        Uniform samples per period besides the breakpoints; >= 2.
+
+    Returns
+    -------
+    LyapunovTrace
+        Samples ``t``, ``v1``, ``v2``, ``V`` and ``dV`` (the right derivative V'(t+), the
+        left one at the last sample) on the uniform grid plus every breakpoint; the
+        sub-intervals between breakpoints (``sub_start``, ``sub_end``, ``sub_equal``, the
+        selected Sign elements ``s1``, ``s2``, and the one-sided derivatives ``dV_start``,
+        ``dV_end``); ``interval_*``, which merge neighbouring sub-intervals with the same
+        label; ``period_V``, V at the period boundaries; and ``converged_time``, the first
+        time from which v1 = v2 exactly for good (NaN if not within the horizon).
+
+    Raises
+    ------
+    ValueError
+        If ``profile_or_scene`` is neither a profile nor a Scene or the Scene's surface is
+        not uniform; ``v10``, ``v20`` or ``phase`` is not a finite number or ``phase`` lies
+        outside [0, 1); ``periods`` is not an integer >= 1 or ``samples_per_period`` not an
+        integer >= 2; or the exact solver cannot simulate the profile.
+    selfalign.solvers.jit.KernelError
+        If numba is missing or cannot compile the kernel.
+
+    See Also
+    --------
+    floquet : The local stability of the steady state (Sect. 6.1).
+
+    Examples
+    --------
+    The Fig. 18 profile: a mass at rest and one at v = 0.5 move in step from t = 0.76 on.
+
+    >>> import selfalign as sa
+    >>> profile = sa.ThreePhaseProfile(dt=1.05, dy=0.084, y2=2.2, y3=0.9)
+    >>> trace = sa.lyapunov_trace(profile, 0.0, 0.5, periods=3)
+    >>> trace.period_V.round(6).tolist(), round(trace.converged_time, 6)
+    ([0.125, 0.0, 0.0, 0.0], 0.760526)
+    >>> trace.interval_equal.tolist(), bool((trace.dV <= 0.0).all())
+    ([False, True, False, True], True)
     """
     profile = _check(profile_or_scene, v10, v20, periods, phase, samples_per_period)
     dt = float(profile.dt)
