@@ -137,11 +137,80 @@ def _pareto(cost_a, cost_b) -> np.ndarray:
 
 
 def design(spec: DesignSpec, *, progress: str = "auto") -> Design:
-    """The guaranteed three-phase design of ``spec`` (module docstring); the trade-offs:
-    ``front_time_error`` (the designs not dominated in closed-form process time and end
-    spread over mu, the first :data:`FRONT_SIMULATED` of them simulated: ``t_arrive``,
+    """The guaranteed three-phase design of ``spec`` (module docstring) and its trade-offs.
+
+    The trade-offs: ``front_time_error`` (the designs not dominated in closed-form process
+    time and end spread over mu, the first
+    :data:`~selfalign.model.design_spec.FRONT_SIMULATED` of them simulated: ``t_arrive``,
     ``error``, ``guaranteed``) and ``front_time_margin`` (closed-form process time against
-    the robustness margin)."""
+    the robustness margin).
+
+    The two objectives of Sect. 2: bring the part to x_d in the least process time and stop
+    it there with the smallest positioning error (module docstring of
+    :mod:`selfalign.analysis.design`).  A grid over (period, stroke, y2'', y3'', c_mu)
+    inside the actuator's limits is screened with closed forms at 65 values of mu across
+    [mu (1 - delta), mu (1 + delta)]: a physical profile (q <= 1), forward motion, a strip
+    that can hold the part (eq. 41) and, where accumulation is asked for, y2'' > y3''.
+    Survivors are ranked by a closed-form process time and verified with the engine, best
+    first: at every mu sample each of ``grid.entries`` steady-state entries into the strip
+    (Sect. 7.1) must come to rest or accumulate (with ``accumulation``: accumulate); the end
+    positions are bounded over the whole mu interval and every entry phase, the middle of
+    the bound is x_d and its half-width, the robust error Delta_x_d,mu, must not exceed the
+    tolerance; and the bound of the simulated process time over the mu interval must not
+    exceed ``max_process_time``.  Static/kinetic or Stribeck friction and y'' ramps of the spec
+    are simulated (the closed forms then only rank).  The guarantee is as strong as the
+    model (``Design.assumptions``).
+
+    Parameters
+    ----------
+    spec : DesignSpec
+        The machine, the part, the actuator's limits and the task, in SI units.
+    progress : {"auto", "bar", "log", "quiet"}, default "auto"
+        How the candidates verified are reported (:mod:`selfalign.progress`).
+
+    Returns
+    -------
+    Design
+        ``found``: a guaranteed design exists on the grid; otherwise ``explanation`` says
+        which constraint binds and what would have to change, and the profile fields hold
+        the best candidate the engine checked (if any).  The profile in SI: ``period`` [s],
+        ``frequency`` [Hz], ``stroke`` [m], ``y2``, ``y3`` [m/s^2], ``c_mu``, ``times`` (the
+        phase times); ``case`` of Table 1 and ``vbar`` [m/s] at the nominal mu, ``vbar_min``
+        over the range, ``margin`` (robustness margin); the simulated ``verification``,
+        ``t_arrive``, ``t_rest`` [s] (worst over the mu samples), ``x_d`` and ``error`` [m]
+        from the strip's edge; the fronts and ``search`` (counts and the time taken).
+
+    Raises
+    ------
+    ValueError
+        If ``spec`` is not a DesignSpec, or ``progress`` (or, with "auto", the environment
+        variable ``SELFALIGN_PROGRESS``) is not one of the modes.
+    selfalign.solvers.jit.KernelError
+        If numba is missing or cannot compile the kernel.
+
+    See Also
+    --------
+    DesignSpec : The input.
+    load_design_spec : Reads a spec from a YAML file.
+    positioning : The steady-state entries of one dimensionless setting.
+
+    Examples
+    --------
+    A 2 mm part on a steel table (mu = 0.2 +- 5 %, a strip of c_mu = 3), on a small grid:
+
+    >>> import selfalign as sa
+    >>> from selfalign.model.design_spec import DesignGrid
+    >>> grid = DesignGrid(periods=2, strokes=1, accelerations=2, c_mu=1, mu_samples=3, max_verified=1)
+    >>> spec = sa.DesignSpec(mu=0.2, mu_uncertainty=0.05, c_mu=(3.0, 3.0), width=2e-3, max_stroke=1e-3,
+    ...                      max_acceleration=8.0, period=(0.01, 0.1), distance=4e-3, tolerance=250e-6, grid=grid)
+    >>> result = sa.design(spec, progress="quiet")
+    >>> result.found, result.case_label
+    (True, 'general stick-slip')
+    >>> print(f"{result.frequency:.4g} Hz, stroke {1e3 * result.stroke:g} mm, y2'' = y3'' = {result.y3:g} m/s^2")
+    10 Hz, stroke 1 mm, y2'' = y3'' = 4 m/s^2
+    >>> print(f"x_d = {1e6 * result.x_d:.4g} um +- {1e6 * result.error:.3g} um, arrival within {result.t_arrive:.3g} s")
+    x_d = 1044 um +- 102 um, arrival within 3.18 s
+    """
     if not isinstance(spec, DesignSpec):
         raise ValueError(f"design needs a DesignSpec (selfalign.io.design_spec.load_design_spec reads one), "
                          f"got {type(spec).__name__}")
