@@ -73,6 +73,65 @@ def design_spec_from_dict(data, source: str = "<design>", name: str | None = Non
 
 
 def load_design_spec(path) -> DesignSpec:
-    """Read, validate and build the design spec in a YAML file (its name defaults to the file stem)."""
+    """Read, validate and build the design spec in a YAML file (its name defaults to the file stem).
+
+    The file is read as YAML 1.2 with every key at most once per mapping, checked against
+    ``schemas/design.schema.yaml`` and turned into a
+    :class:`~selfalign.model.design_spec.DesignSpec` (README "Designing a self-aligning
+    station").  Sections: ``machine`` (mu, mu_uncertainty, c_mu as a number or
+    {min, max}, g), ``part`` (width), ``actuator`` (stroke as a number or {min, max},
+    acceleration, exactly one of frequency [Hz] and period [s] as {min, max}, ramp),
+    ``task`` (distance, tolerance, accumulation, objective, max_process_time) and optionally
+    ``friction``, ``search`` (the :class:`~selfalign.model.design_spec.DesignGrid`), ``name``
+    and ``description``.  Every problem is one line naming the file and the key, e.g.
+    ``workflow/designs/x.yaml: actuator.acceleration: must be > 0, got -3``.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The design spec file (UTF-8 YAML).
+
+    Returns
+    -------
+    DesignSpec
+        The validated spec, in SI units.
+
+    Raises
+    ------
+    TypeError
+        If ``path`` is not a str or path-like object.
+    selfalign.io.design_spec.DesignSpecError
+        A :class:`~selfalign.model.errors.SceneError`: if the file cannot be read, is not
+        UTF-8 text or valid YAML, repeats a key, breaks the schema, holds a NaN or infinity,
+        or gives values the :class:`~selfalign.model.design_spec.DesignSpec` refuses.
+
+    See Also
+    --------
+    design : Searches and certifies the design of the spec.
+    DesignSpec : The result.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> import selfalign as sa
+    >>> folder = tempfile.TemporaryDirectory()
+    >>> path = pathlib.Path(folder.name) / "station.yaml"
+    >>> _ = path.write_text('''
+    ... machine: {mu: 0.2, mu_uncertainty: 0.05, c_mu: 3.0}
+    ... part: {width: 2.0e-3}
+    ... actuator: {stroke: 1.0e-3, acceleration: 8.0, frequency: {min: 10.0, max: 100.0}}
+    ... task: {distance: 10.0e-3, tolerance: 250.0e-6}
+    ... ''')
+    >>> spec = sa.load_design_spec(path)
+    >>> spec.name, spec.period, spec.c_mu
+    ('station', (0.01, 0.1), (3.0, 3.0))
+    >>> _ = path.write_text(path.read_text().replace("acceleration: 8.0", "acceleration: -8.0"))
+    >>> try:
+    ...     sa.load_design_spec(path)
+    ... except sa.SceneError as exc:
+    ...     print(type(exc).__name__, str(exc).split(": ", 1)[1])
+    DesignSpecError actuator.acceleration: must be > 0, got -8.0
+    >>> folder.cleanup()
+    """
     path = Path(path)
     return design_spec_from_dict(read_yaml(path, DesignSpecError, "design spec"), source=str(path), name=path.stem)

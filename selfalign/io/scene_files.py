@@ -126,7 +126,68 @@ def _refuse_idle_keys(data: dict, source: str) -> None:
 
 
 def scene_from_dict(data: dict, source: str = "<scene>", name: str | None = None) -> Scene:
-    """Build a :class:`Scene` from a dict in the YAML layout, validating it first."""
+    """Build a :class:`Scene` from a dict in the YAML layout, validating it first.
+
+    ``data`` is checked against the JSON schema of scene files (``schemas/scene.schema.yaml``,
+    shared with the Snakemake config), then for the physics (a feasible profile, finite
+    numbers) and for keys that would do nothing (``body`` without a stop zone, ``record.arcs``
+    without the exact solver, ...), and finally the solver and its options are checked
+    against the scene (:func:`~selfalign.solvers.methods.check_scene`), so that a scene its
+    method cannot simulate is refused when it is loaded, not first inside the job that
+    simulates it.  With ``units: si`` and an ``si`` block (mu, g, L) the lengths, times,
+    velocities, accelerations and jerks are converted to the dimensionless model of
+    Sect. 3.2 (:class:`~selfalign.model.units.SIScale`).  A three-phase profile with a
+    ``ramp`` or ``jerk`` > 0 is the finite-jerk version of the paper's profile.
+
+    Parameters
+    ----------
+    data : dict
+        The scene in the YAML layout: ``profile`` and ``horizon``, optionally ``name``,
+        ``description``, ``units``, ``si``, ``surface``, ``body``, ``friction``, ``start``,
+        ``solver`` and ``record``.
+    source : str, default "<scene>"
+        Where the data came from; every error message starts with it.
+    name : str, optional
+        The scene's name when ``data`` gives none (default "scene").
+
+    Returns
+    -------
+    Scene
+        The validated scene.
+
+    Raises
+    ------
+    SceneError
+        If ``data`` is not a mapping, holds a NaN or infinity, breaks the schema, describes
+        no physical profile or surface, has a key that would do nothing, has no valid
+        horizon, or names a solver that cannot simulate the scene; one line naming
+        ``source`` and the key.
+
+    See Also
+    --------
+    load_scene : Reads the same layout from a YAML file.
+    Scene : The result.
+
+    Examples
+    --------
+    A scene in SI units (a 2 mm part, mu = 0.2; 10 Hz, 1 mm stroke, 4 m/s^2):
+
+    >>> import selfalign as sa
+    >>> layout = {"units": "si", "si": {"mu": 0.2, "g": 9.81, "L": 0.002},
+    ...           "profile": {"kind": "three_phase", "dt": 0.1, "dy": 0.001, "y2": 4.0, "y3": 4.0},
+    ...           "horizon": {"periods": 10}}
+    >>> scene = sa.scene_from_dict(layout, name="table")
+    >>> scene.name, scene.method, scene.periods
+    ('table', 'exact', 10)
+    >>> print(round(scene.profile.dt, 6), round(scene.profile.dy, 6), round(scene.profile.y2, 6))
+    3.132092 0.5 2.038736
+    >>> layout["solver"] = {"method": "exact", "options": {"h": 0.01}}
+    >>> try:
+    ...     sa.scene_from_dict(layout, source="table.yaml")
+    ... except sa.SceneError as exc:
+    ...     print(exc)
+    table.yaml: solver: unknown option(s) ['h'] for method 'exact'; allowed: ['accumulation_tol', 'max_events']
+    """
     validate_scene_dict(data, source)
     try:
         si = SIScale(**data["si"]) if "si" in data else None
@@ -312,7 +373,62 @@ def read_yaml(path, error: type[ValueError], what: str):
 
 
 def load_scene(path) -> Scene:
-    """Read, validate and build the scene in a YAML file."""
+    """Read, validate and build the scene in a YAML file.
+
+    The file is read as YAML 1.2 with every key at most once per mapping, validated against
+    ``schemas/scene.schema.yaml`` (shared with the Snakemake config) and then checked for
+    the physics (feasible profile, finite numbers) and the solver, as
+    :func:`scene_from_dict` does; the scene's name defaults to the file's stem.  Every
+    problem raises :class:`~selfalign.model.errors.SceneError` with a one-line message
+    naming the file and the key.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The scene file (UTF-8 YAML).
+
+    Returns
+    -------
+    Scene
+        The validated scene.
+
+    Raises
+    ------
+    TypeError
+        If ``path`` is not a str or path-like object.
+    SceneError
+        If the file cannot be read, is not UTF-8 text or valid YAML, repeats a key, or
+        fails the checks of :func:`scene_from_dict`.
+
+    See Also
+    --------
+    scene_from_dict : Builds a scene from a mapping in the same layout.
+    simulate : Simulates the scene.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> import selfalign as sa
+    >>> folder = tempfile.TemporaryDirectory()
+    >>> path = pathlib.Path(folder.name) / "fig18_stop.yaml"
+    >>> _ = path.write_text('''
+    ... profile: {kind: three_phase, dt: 1.05, dy: 0.084, y2: 2.2, y3: 0.9}
+    ... surface: {kind: stop_zone, x_mu: 0.5, c_mu: 2.5}
+    ... body: {width: 0.05}
+    ... horizon: {until: rest, max_periods: 1000}
+    ... ''')
+    >>> scene = sa.load_scene(path)
+    >>> scene.name, scene.surface
+    ('fig18_stop', StopZone(x_mu=0.5, w=0.05, c_mu=2.5))
+    >>> sa.simulate(scene).status.value
+    'accumulation'
+    >>> try:
+    ...     sa.load_scene(pathlib.Path(folder.name) / "missing.yaml")
+    ... except sa.SceneError as exc:
+    ...     print(str(exc).replace(folder.name, "<folder>"))
+    <folder>/missing.yaml: cannot read scene file (No such file or directory)
+    >>> folder.cleanup()
+    """
     path = Path(path)
     return scene_from_dict(read_yaml(path, SceneError, "scene file"), source=str(path), name=path.stem)
 
