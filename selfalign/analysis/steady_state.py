@@ -122,6 +122,14 @@ class SteadyState:
     backward_start, backward_time : float or numpy.ndarray
         Start (NaN: never) and length of the backward-slip interval.
 
+    Attributes
+    ----------
+    vbar, f, case, v0, v_max : float, int or numpy.ndarray
+        The parameters: floats (``case`` an int) from :func:`steady_state`, arrays shaped
+        like the broadcast inputs from :func:`steady_state_grid`.
+    stick_start, stick_time, forward_start, forward_time, backward_start, backward_time : float or numpy.ndarray
+        The intervals of the three motion modes, likewise.
+
     See Also
     --------
     steady_state : Computes it for one profile.
