@@ -221,20 +221,20 @@ def classify(profile_or_params) -> int:
 
     The a-priori classification of the steady state on a uniform surface (Sect. 5, the
     flow chart of Fig. 8, kept as data in
-    :data:`~selfalign.analysis.classification.DECISION_TREE`).  Cases: 0 non-physical
+    ``selfalign.analysis.classification.DECISION_TREE``).  Cases: 0 non-physical
     profile, 1 stick-slip with x' >= 0, 2 stick-slip with x' <= 0, 3 general stick-slip,
-    4 slip-slip, 5 pure stick.  The ties |y''| = 1 and v_back = t1 count as stick.  Stick
-    at v = 0 is possible in a phase iff |y''| <= 1, so with y2 <= 1 and y3 <= 1 the mass
+    4 slip-slip, 5 pure stick.  The ties ``|y''| = 1`` and v_back = t1 count as stick.  Stick
+    at v = 0 is possible in a phase iff ``|y''| <= 1``, so with y2 <= 1 and y3 <= 1 the mass
     never leaves v = 0 (case 5), with only y2 > 1 it can only slip forward (case 1), with
     only y3 > 1 only backward (case 2); with both > 1 it can stick only in the dwell, and
     the stick recurs iff the backward speed v_back reached at t3 is at most t1 (case 3,
-    else case 4).  :func:`~selfalign.analysis.classification.classify_grid` classifies
-    whole grids.
+    else case 4).  ``selfalign.analysis.classification.classify_grid`` classifies whole
+    grids.
 
     Parameters
     ----------
-    profile_or_params : ThreePhaseProfile, mapping or sequence
-        A :class:`~selfalign.model.profiles.ThreePhaseProfile`, a mapping with the keys
+    profile_or_params : ThreePhaseProfile, dict or tuple
+        A :class:`~selfalign.ThreePhaseProfile`, a mapping with the keys
         dt, dy, y2, y3 (a ``kind`` key, if any, must be "three_phase"), or a tuple or list
         (dt, dy, y2, y3).  Parameters of a non-physical profile are allowed (case 0).
 

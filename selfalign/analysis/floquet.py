@@ -363,8 +363,7 @@ def floquet(profile_or_scene, method: str = "analytic", **options) -> FloquetRes
     """Floquet multipliers and monodromy matrix of the steady state (module docstring).
 
     ``profile_or_scene``: a profile (uniform surface, start at t = 0) or a Scene (its
-    surface, start state and phase).  Options
-    (:data:`~selfalign.analysis.floquet.DEFAULT_OPTIONS`): saltation
+    surface, start state and phase).  Options (:data:`DEFAULT_OPTIONS`): saltation
     and numeric ``max_periods``; numeric ``solver`` ("exact" | "moreau"), ``eps``,
     ``h`` (Moreau only).
 
@@ -372,7 +371,7 @@ def floquet(profile_or_scene, method: str = "analytic", **options) -> FloquetRes
     periodic motion at the period start t0 = phase * dt to the perturbation k periods later
     (eq. 25; k = 1 except for a k-periodic motion); its eigenvalues are the Floquet
     multipliers (Sect. 6.1).  The three methods (module docstring of
-    :mod:`selfalign.analysis.floquet`):
+    ``selfalign.analysis.floquet``):
 
     * "analytic": the linearisation of the closed-form one-period map, eqs. (25)-(33), for
       every case of Table 1 including pure stick (case 5, which the paper leaves out);
@@ -394,14 +393,15 @@ def floquet(profile_or_scene, method: str = "analytic", **options) -> FloquetRes
     profile_or_scene : Profile or Scene
         A profile (uniform surface, start at t = 0) or a Scene (its surface, start state and
         phase).
-    method : {"analytic", "saltation", "numeric"}, default "analytic"
-        How the monodromy matrix is computed.
+    method : str, optional
+        How the monodromy matrix is computed: "analytic" (the default), "saltation" or
+        "numeric".
     **options
         ``max_periods`` (saltation, numeric; default 10000): the budget of the search for
         the periodic motion.  Numeric only: ``solver`` ("exact" or "moreau", default
         "exact"), ``eps`` (the finite-difference step in x and x', in (0, 1); default
-        :data:`~selfalign.analysis.floquet.EXACT_EPS` = 1e-7 with the exact solver,
-        sqrt(h) with Moreau) and ``h`` (the Moreau time step; default dt / 1000).
+        ``EXACT_EPS`` = 1e-7 with the exact solver, sqrt(h) with Moreau) and ``h`` (the
+        Moreau time step; default dt / 1000).
 
     Returns
     -------
@@ -423,9 +423,9 @@ def floquet(profile_or_scene, method: str = "analytic", **options) -> FloquetRes
         accumulation, Sect. 7.3, or a chaotic motion); the orbit grazes (a stick or reversal
         with x'' = 0 before it, a zone boundary crossed at x' = 0), so that the monodromy
         matrix does not exist; or the matrix is not finite.
-    selfalign.solvers.jit.KernelError
-        If numba is missing or cannot compile the kernel ("saltation", "numeric", or a
-        periodic motion that is simulated).
+    RuntimeError
+        ``selfalign.solvers.jit.KernelError``, if numba is missing or cannot compile the
+        kernel ("saltation", "numeric", or a periodic motion that is simulated).
 
     See Also
     --------

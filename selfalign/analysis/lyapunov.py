@@ -157,7 +157,7 @@ def lyapunov_trace(profile_or_scene, v10: float, v20: float, periods: int, phase
     """V = (v1 - v2)^2 / 2 of two trajectories on a uniform surface (module docstring).
 
     Both start at time ``phase * dt`` (with a Scene, pass its ``phase``; only its
-    profile is used here, see :func:`~selfalign.analysis.lyapunov.scene_trace`).
+    profile is used here, see :func:`scene_trace`).
 
     The convergence analysis of Sect. 6.2 (eqs. 34-37, Fig. 13): two trajectories of
     v' in -Sign(v) - y''(t) (eq. 34) from the initial velocities v10 and v20, and the
@@ -166,7 +166,7 @@ def lyapunov_trace(profile_or_scene, v10: float, v20: float, periods: int, phase
     stick.  Intervals are labelled "=" where s1 = s2, so V' = 0, and "!=" where s1 != s2,
     so V' < 0 whenever V > 0.  Everything is computed from the exact solver's arcs: the
     breakpoints are both trajectories' event times and the period boundaries, and V is
-    exact at every event (module docstring of :mod:`selfalign.analysis.lyapunov`).
+    exact at every event (module docstring of ``selfalign.analysis.lyapunov``).
 
     Parameters
     ----------
@@ -176,10 +176,10 @@ def lyapunov_trace(profile_or_scene, v10: float, v20: float, periods: int, phase
         Initial relative velocities of the two trajectories; finite.
     periods : int
         Number of periods; >= 1.
-    phase : float, default 0.0
-        Start time as a fraction of the period, in [0, 1).
-    samples_per_period : int, default 200
-        Uniform samples per period besides the breakpoints; >= 2.
+    phase : float, optional
+        Start time as a fraction of the period, in [0, 1).  Default 0.
+    samples_per_period : int, optional
+        Uniform samples per period besides the breakpoints; >= 2.  Default 200.
 
     Returns
     -------
@@ -199,8 +199,9 @@ def lyapunov_trace(profile_or_scene, v10: float, v20: float, periods: int, phase
         not uniform; ``v10``, ``v20`` or ``phase`` is not a finite number or ``phase`` lies
         outside [0, 1); ``periods`` is not an integer >= 1 or ``samples_per_period`` not an
         integer >= 2; or the exact solver cannot simulate the profile.
-    selfalign.solvers.jit.KernelError
-        If numba is missing or cannot compile the kernel.
+    RuntimeError
+        ``selfalign.solvers.jit.KernelError``, if numba is missing or cannot compile the
+        kernel.
 
     See Also
     --------

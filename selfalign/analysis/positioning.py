@@ -272,11 +272,10 @@ def positioning(profile: ThreePhaseProfile, *, w: float, c_mu: float, n_entries:
     ``friction``: a :class:`~selfalign.model.friction.FrictionLaw` (default: the paper's Coulomb
     friction); ``ramp``: y'' ramp time of the finite-jerk version of ``profile`` (0: the paper's).
     The entries run with the exact solver where it can simulate them, otherwise with Moreau
-    (:func:`~selfalign.solvers.tables.setting_method`; ``method`` of the result says which).
-    ValueError if the profile's steady state does not move forward (vbar <= 0): then the mass
-    never reaches the zone.
+    (:func:`setting_method`; ``method`` of the result says which).  ValueError if the profile's
+    steady state does not move forward (vbar <= 0): then the mass never reaches the zone.
 
-    Entries (Sect. 7.1, module docstring of :mod:`selfalign.analysis.positioning`): on the
+    Entries (Sect. 7.1, module docstring of ``selfalign.analysis.positioning``): on the
     uniform surface the steady state is x_s(t) with x_s(0) = 0 and x_s'(0) = v0, and every
     steady-state approach to the zone is x_s(t) - s for an offset s in [0, vbar dt).  The
     entries sample s_j = vbar dt (j + offset) / n_entries and start at t = 0 at
@@ -299,20 +298,23 @@ def positioning(profile: ThreePhaseProfile, *, w: float, c_mu: float, n_entries:
         Width of the body, the transition width (eqs. 7-9); > 0.
     c_mu : float
         Coefficient of the high-friction zone; > 1.
-    n_entries : int, default 64
-        Number of entries (offsets s_j); the entries may need at most 2 GiB.
-    offset : float, default 0.5
+    n_entries : int, optional
+        Number of entries (offsets s_j); the entries may need at most 2 GiB.  Default 64.
+    offset : float, optional
         Where the sample starts, as a fraction of the sample spacing; in [0, 1).  Results are
-        independent of it up to the sampling resolution.
-    max_periods : int, default 1000
+        independent of it up to the sampling resolution.  Default 0.5.
+    max_periods : int, optional
         Period budget of an entry: entries without an outcome by then are undecided.  At
-        most 1e10 entry-periods (n_entries x max_periods).
-    accumulation_tol : float, default 1e-12
+        most 1e10 entry-periods (n_entries x max_periods).  Default 1000.
+    accumulation_tol : float, optional
         An accumulation ends at a stick within this distance of x_stick_min; at most 1e-6 w.
+        Default 1e-12.
     friction : FrictionLaw, optional
-        The friction law (default: the paper's Coulomb friction).
-    ramp : float, default 0.0
-        y'' ramp time of the finite-jerk version of ``profile``; >= 0 (0: the paper's).
+        The friction law (``selfalign.model.friction.FrictionLaw``; default: the paper's
+        Coulomb friction).
+    ramp : float, optional
+        y'' ramp time of the finite-jerk version of ``profile``; >= 0.  Default 0: the
+        paper's profile.
 
     Returns
     -------

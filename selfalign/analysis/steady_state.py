@@ -100,10 +100,20 @@ class SteadyState:
     x' (at t2, 0 without forward slip).  Each motion mode occupies one
     interval [start, start + time) per period, taken modulo dt: ``*_start``
     is NaN when the mode never occurs, and ``*_time`` sums to dt.  The
-    normalisation c of the objective is
-    :data:`~selfalign.analysis.steady_state.OBJECTIVE_SCALE` = 1e4.
+    normalisation c of the objective is ``OBJECTIVE_SCALE`` = 1e4.
 
     Parameters
+    ----------
+    vbar, f, case, v0, v_max : float, int or numpy.ndarray
+        The fields of the same names (Attributes): floats (``case`` an int) from
+        :func:`~selfalign.steady_state`, arrays shaped like the broadcast inputs from
+        ``steady_state_grid``.
+    stick_start, stick_time, forward_start, forward_time : float or numpy.ndarray
+        Likewise.
+    backward_start, backward_time : float or numpy.ndarray
+        Likewise.
+
+    Attributes
     ----------
     vbar : float or numpy.ndarray
         Average velocity of the mass relative to the table (eq. 10).
@@ -115,20 +125,18 @@ class SteadyState:
         x' at the profile's t = 0.
     v_max : float or numpy.ndarray
         The largest x' (at t2; 0 without forward slip).
-    stick_start, stick_time : float or numpy.ndarray
-        Start (NaN: never) and length of the stick interval within the period.
-    forward_start, forward_time : float or numpy.ndarray
-        Start (NaN: never) and length of the forward-slip interval.
-    backward_start, backward_time : float or numpy.ndarray
-        Start (NaN: never) and length of the backward-slip interval.
-
-    Attributes
-    ----------
-    vbar, f, case, v0, v_max : float, int or numpy.ndarray
-        The parameters: floats (``case`` an int) from :func:`steady_state`, arrays shaped
-        like the broadcast inputs from :func:`steady_state_grid`.
-    stick_start, stick_time, forward_start, forward_time, backward_start, backward_time : float or numpy.ndarray
-        The intervals of the three motion modes, likewise.
+    stick_start : float or numpy.ndarray
+        Start of the stick interval within the period (NaN: never).
+    stick_time : float or numpy.ndarray
+        Length of the stick interval.
+    forward_start : float or numpy.ndarray
+        Start of the forward-slip interval (NaN: never).
+    forward_time : float or numpy.ndarray
+        Length of the forward-slip interval.
+    backward_start : float or numpy.ndarray
+        Start of the backward-slip interval (NaN: never).
+    backward_time : float or numpy.ndarray
+        Length of the backward-slip interval.
 
     See Also
     --------
@@ -231,17 +239,17 @@ def steady_state(profile_or_params) -> SteadyState:
     """Steady state of one ThreePhaseProfile (or (dt, dy, y2, y3) tuple / mapping), as floats.
 
     The closed form of Sects. 5.1 and 6.1 on a uniform surface (mu_bar = 1): the case of
-    Table 1 is decided a priori (:func:`~selfalign.analysis.classification.classify`) and
-    one periodic solution is exhibited per case; it is the steady state, which is unique
-    (Sect. 6.2).  The derivations are in the docstring of
-    :mod:`selfalign.analysis.steady_state`.  Scaling t -> l t, x -> l^2 x leaves the model
-    invariant, so vbar(l dt, l^2 dy) = l vbar(dt, dy).
-    :func:`~selfalign.analysis.steady_state.steady_state_grid` computes whole grids.
+    Table 1 is decided a priori (:func:`~selfalign.classify`) and one periodic solution is
+    exhibited per case; it is the steady state, which is unique (Sect. 6.2).  The
+    derivations are in the docstring of the module ``selfalign.analysis.steady_state``.
+    Scaling t -> l t, x -> l^2 x leaves the model invariant, so
+    vbar(l dt, l^2 dy) = l vbar(dt, dy).  ``selfalign.analysis.steady_state.steady_state_grid``
+    computes whole grids.
 
     Parameters
     ----------
-    profile_or_params : ThreePhaseProfile, mapping or sequence
-        A :class:`~selfalign.model.profiles.ThreePhaseProfile`, a mapping with the keys
+    profile_or_params : ThreePhaseProfile, dict or tuple
+        A :class:`~selfalign.ThreePhaseProfile`, a mapping with the keys
         dt, dy, y2, y3 (a ``kind`` key, if any, must be "three_phase"), or a tuple or list
         (dt, dy, y2, y3).
 

@@ -90,7 +90,7 @@ def stick_map(x_n, profile: ThreePhaseProfile, *, w: float, c_mu: float, x_mu: f
     Valid while the assumptions of Sect. 7.3 hold (the mass slips forward
     from t1, the velocity stays positive until after t2, and it sticks
     again inside the transition zone during the y3'' part); use
-    :func:`~selfalign.analysis.stick_map.stick_map_validity` to check them.
+    :func:`stick_map_validity` to check them.
     A mass stuck at x_n in the transition zone x_mu <= x_n < x_f (where
     mu_bar = y2) stays stuck through the dwell [0, t1), slips forward at t1,
     moves as the forced oscillator of eq. (42) through [t1, t2), switches
@@ -100,7 +100,7 @@ def stick_map(x_n, profile: ThreePhaseProfile, *, w: float, c_mu: float, x_mu: f
     x_stick_min of eq. (41) only when y2 >= y3, and its derivative there is
     cos(omega (t2 - t1)).  The paper's eq. (54) has an erratum (d_{1,2} uses
     b_{3,2}, not b_{3,1}); eq. (59) itself is right (module docstring of
-    :mod:`selfalign.analysis.stick_map`).
+    ``selfalign.analysis.stick_map``).
 
     Parameters
     ----------
@@ -126,7 +126,7 @@ def stick_map(x_n, profile: ThreePhaseProfile, *, w: float, c_mu: float, x_mu: f
         If ``profile`` is not a ThreePhaseProfile, or ``w``, ``c_mu`` or ``x_mu`` is not a
         real number.
     ValueError
-        If the zone is invalid (see :class:`~selfalign.model.friction.StopZone`),
+        If the zone is invalid (see :class:`~selfalign.StopZone`),
         ``c_mu`` <= 1, or an ``x_n`` is not finite.
 
     See Also

@@ -76,13 +76,13 @@ def load_design_spec(path) -> DesignSpec:
     """Read, validate and build the design spec in a YAML file (its name defaults to the file stem).
 
     The file is read as YAML 1.2 with every key at most once per mapping, checked against
-    ``schemas/design.schema.yaml`` and turned into a
-    :class:`~selfalign.model.design_spec.DesignSpec` (README "Designing a self-aligning
-    station").  Sections: ``machine`` (mu, mu_uncertainty, c_mu as a number or
+    ``schemas/design.schema.yaml`` and turned into a :class:`~selfalign.DesignSpec`
+    (docs/tutorials/design-station.md).
+    Sections: ``machine`` (mu, mu_uncertainty, c_mu as a number or
     {min, max}, g), ``part`` (width), ``actuator`` (stroke as a number or {min, max},
     acceleration, exactly one of frequency [Hz] and period [s] as {min, max}, ramp),
     ``task`` (distance, tolerance, accumulation, objective, max_process_time) and optionally
-    ``friction``, ``search`` (the :class:`~selfalign.model.design_spec.DesignGrid`), ``name``
+    ``friction``, ``search`` (the ``selfalign.model.design_spec.DesignGrid``), ``name``
     and ``description``.  Every problem is one line naming the file and the key, e.g.
     ``workflow/designs/x.yaml: actuator.acceleration: must be > 0, got -3``.
 
@@ -100,10 +100,10 @@ def load_design_spec(path) -> DesignSpec:
     ------
     TypeError
         If ``path`` is not a str or path-like object.
-    selfalign.io.design_spec.DesignSpecError
-        A :class:`~selfalign.model.errors.SceneError`: if the file cannot be read, is not
-        UTF-8 text or valid YAML, repeats a key, breaks the schema, holds a NaN or infinity,
-        or gives values the :class:`~selfalign.model.design_spec.DesignSpec` refuses.
+    SceneError
+        Its subclass ``selfalign.io.design_spec.DesignSpecError``: if the file cannot be
+        read, is not UTF-8 text or valid YAML, repeats a key, breaks the schema, holds a NaN
+        or infinity, or gives values the :class:`~selfalign.DesignSpec` refuses.
 
     See Also
     --------

@@ -132,11 +132,11 @@ def scene_from_dict(data: dict, source: str = "<scene>", name: str | None = None
     shared with the Snakemake config), then for the physics (a feasible profile, finite
     numbers) and for keys that would do nothing (``body`` without a stop zone, ``record.arcs``
     without the exact solver, ...), and finally the solver and its options are checked
-    against the scene (:func:`~selfalign.solvers.methods.check_scene`), so that a scene its
+    against the scene (``selfalign.solvers.methods.check_scene``), so that a scene its
     method cannot simulate is refused when it is loaded, not first inside the job that
     simulates it.  With ``units: si`` and an ``si`` block (mu, g, L) the lengths, times,
     velocities, accelerations and jerks are converted to the dimensionless model of
-    Sect. 3.2 (:class:`~selfalign.model.units.SIScale`).  A three-phase profile with a
+    Sect. 3.2 (:class:`~selfalign.SIScale`).  A three-phase profile with a
     ``ramp`` or ``jerk`` > 0 is the finite-jerk version of the paper's profile.
 
     Parameters
@@ -145,8 +145,8 @@ def scene_from_dict(data: dict, source: str = "<scene>", name: str | None = None
         The scene in the YAML layout: ``profile`` and ``horizon``, optionally ``name``,
         ``description``, ``units``, ``si``, ``surface``, ``body``, ``friction``, ``start``,
         ``solver`` and ``record``.
-    source : str, default "<scene>"
-        Where the data came from; every error message starts with it.
+    source : str, optional
+        Where the data came from; every error message starts with it.  Default "<scene>".
     name : str, optional
         The scene's name when ``data`` gives none (default "scene").
 
@@ -379,7 +379,7 @@ def load_scene(path) -> Scene:
     ``schemas/scene.schema.yaml`` (shared with the Snakemake config) and then checked for
     the physics (feasible profile, finite numbers) and the solver, as
     :func:`scene_from_dict` does; the scene's name defaults to the file's stem.  Every
-    problem raises :class:`~selfalign.model.errors.SceneError` with a one-line message
+    problem raises :class:`~selfalign.SceneError` with a one-line message
     naming the file and the key.
 
     Parameters

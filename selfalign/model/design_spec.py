@@ -76,14 +76,14 @@ class DesignGrid:
 class DesignSpec:
     """A design problem in SI units (m, s, m/s^2): what a self-aligning station must do.
 
-    The input of :func:`~selfalign.analysis.design.design` (module docstring of
-    :mod:`selfalign.model.design_spec`).  A spec names the machine (friction coefficient mu
+    The input of :func:`~selfalign.design` (module docstring of
+    ``selfalign.model.design_spec``).  A spec names the machine (friction coefficient mu
     of the base surface and its relative uncertainty, the friction ratio c_mu of the
     high-friction strip, gravity), the part (its width, the transition width w of
-    eqs. 7-9), the actuator's limits (stroke, |acceleration|, period range) and the task
+    eqs. 7-9), the actuator's limits (stroke, ``|acceleration|``, period range) and the task
     (distance to the strip, positioning tolerance, objective).  Every check raises before
     any work, with one line naming the key.  Design spec files are read by
-    :func:`~selfalign.io.design_spec.load_design_spec`.
+    :func:`~selfalign.load_design_spec`.
 
     Parameters
     ----------
@@ -100,7 +100,7 @@ class DesignSpec:
     max_stroke : float
         Largest stroke of the actuator [m].
     max_acceleration : float
-        Largest |y''| of the actuator [m/s^2].
+        Largest ``|y''|`` of the actuator [m/s^2].
     period : tuple of float
         (low, high) of the period in s, low <= high.
     distance : float
@@ -109,26 +109,27 @@ class DesignSpec:
     tolerance : float
         Positioning tolerance [m]; smaller than ``distance`` (the part starts outside the
         band it is to end in).
-    g : float, default 9.81
-        Gravitational acceleration [m/s^2].
-    accumulation : bool, default False
-        Require Delta_x_d = 0 (every entry accumulates at x_stick_min).
-    objective : {"process_time", "robustness"}, default "process_time"
-        "process_time": the least worst-case process time; "robustness": the largest mu margin
-        with a worst-case process time <= ``max_process_time``.
+    g : float, optional
+        Gravitational acceleration [m/s^2].  Default 9.81.
+    accumulation : bool, optional
+        Require Delta_x_d = 0 (every entry accumulates at x_stick_min).  Default False.
+    objective : str, optional
+        "process_time" (the default): the least worst-case process time; "robustness": the
+        largest mu margin with a worst-case process time <= ``max_process_time``.
     max_process_time : float, optional
         The process time [s] to keep; required with ``objective="robustness"``.
-    name : str, default "design"
-        The name of the design (a spec file's stem).
+    name : str, optional
+        The name of the design (a spec file's stem).  Default "design".
     min_stroke : float, optional
         The smallest stroke the actuator can make, in (0, max_stroke] (None: any stroke up to
         ``max_stroke``; equal to it for a fixed-stroke drive such as a cam).
-    grid : DesignGrid, default DesignGrid()
-        Resolution of the search (:class:`~selfalign.model.design_spec.DesignGrid`); at most
-        4,000,000 designs.
-    friction : FrictionLaw, default FrictionLaw()
-        The friction law on base and strip alike (the paper's Coulomb friction, static/kinetic
-        with mu_s = r mu_k, or Stribeck with its ``v_s`` in m/s, made dimensionless at each mu).
+    grid : DesignGrid, optional
+        Resolution of the search (``selfalign.model.design_spec.DesignGrid``); at most
+        4,000,000 designs.  Default ``DesignGrid()``.
+    friction : FrictionLaw, optional
+        The friction law (``selfalign.model.friction.FrictionLaw``) on base and strip alike
+        (the paper's Coulomb friction by default, static/kinetic with mu_s = r mu_k, or
+        Stribeck with its ``v_s`` in m/s, made dimensionless at each mu).
     ramp : float, optional
         The time [s] over which y'' ramps linearly at each switch of the three-phase profile
         (finite jerk; None: the paper's jumps); shorter than a third of the longest period and

@@ -16,7 +16,7 @@ class NonPhysicalProfile(ValueError):
 
     The seven constraints of the Appendix (Sect. 4.4.3) have a real solution only while the
     feasibility number q = sqrt(8 dy (1/y2 + 1/y3)) / dt is at most 1; beyond it lies case 0 of
-    Table 1.  :class:`~selfalign.model.profiles.ThreePhaseProfile` (and its finite-jerk version)
+    Table 1.  :class:`~selfalign.ThreePhaseProfile` (and its finite-jerk version)
     raises this error before any work, with one line naming the largest stroke that is
     physical.  It is a ValueError, so ``except ValueError`` catches it too; scene files report
     it as a :class:`SceneError` naming the file.
@@ -44,13 +44,11 @@ class SceneError(ValueError):
     """A scene file or Scene object is invalid; the message names file and key.
 
     Raised before any work starts, with a one-line message naming the offending quantity and
-    what is allowed: by :class:`~selfalign.model.scene.Scene` and
-    :class:`~selfalign.model.scene.Record` for a bad field, and by
-    :func:`~selfalign.io.scene_files.load_scene` and
-    :func:`~selfalign.io.scene_files.scene_from_dict` for a file or mapping that cannot be read,
-    breaks the schema or describes no physical scene (the message then starts with the file
-    and the key).  Design spec files raise its subclass
-    :class:`~selfalign.io.design_spec.DesignSpecError`.  It is a ValueError, so
+    what is allowed: by :class:`~selfalign.Scene` and :class:`~selfalign.Record` for a bad
+    field, and by :func:`~selfalign.load_scene` and :func:`~selfalign.scene_from_dict` for a
+    file or mapping that cannot be read, breaks the schema or describes no physical scene (the
+    message then starts with the file and the key).  Design spec files raise its subclass
+    ``selfalign.io.design_spec.DesignSpecError``.  It is a ValueError, so
     ``except ValueError`` catches it too.
 
     See Also

@@ -205,9 +205,9 @@ class StopZone:
     ----------
     x_mu : float
         Start of the high-friction region (dimensionless position).  At most
-        :data:`~selfalign.model.friction.MAX_ZONE_POSITION` = 2**32 times ``w`` from 0: positions are reported as
-        x_mu + xi, and farther out doubles cannot resolve the transition of width w (put the
-        origin near the zone; positions are relative).
+        ``MAX_ZONE_POSITION`` = 2**32 times ``w`` from 0: positions are reported as x_mu + xi,
+        and farther out doubles cannot resolve the transition of width w (put the origin near
+        the zone; positions are relative).
     w : float
         Width of the body, which is the width of the transition (eqs. 7-9); > 0.
     c_mu : float
@@ -216,8 +216,12 @@ class StopZone:
 
     Attributes
     ----------
-    x_mu, w, c_mu : float
-        The parameters, as floats.
+    x_mu : float
+        Start of the high-friction region.
+    w : float
+        Width of the transition, the body's width.
+    c_mu : float
+        Coefficient of the high-friction region, in units of mu.
     b1 : float
         Slope of mu_bar in the transition region, (c_mu - 1) / w (eq. 42).
     x_end : float
@@ -234,7 +238,7 @@ class StopZone:
         refused).
     ValueError
         If one of them is not finite, ``w`` <= 0, ``c_mu`` < 1, the transition slope
-        (c_mu - 1) / w overflows, or |x_mu| > 2**32 w.
+        (c_mu - 1) / w overflows, or ``|x_mu| > 2**32 w``.
 
     See Also
     --------
@@ -250,7 +254,7 @@ class StopZone:
     >>> print(round(zone.b1, 6), round(zone.x_end, 6))
     30.0 0.55
 
-    x_stick_min of eq. (41), where permanent stick becomes possible under max|y''| = 2.2:
+    x_stick_min of eq. (41), where permanent stick becomes possible, for max ``|y''|`` = 2.2:
 
     >>> print(round(zone.x_stick_min(2.2), 6), zone.x_stick_min(0.9), zone.x_stick_min(3.0))
     0.54 -inf inf

@@ -105,16 +105,20 @@ class PiecewiseConstantProfile(Profile):
     ----------
     dt : float
         The period, ``breaks[-1]``.
-    breaks, accels : numpy.ndarray
-        The pieces, those of zero length dropped.
-    piece_velocity, piece_position : numpy.ndarray
-        y' and y at the start of every piece and at the end of the period.
+    breaks : numpy.ndarray
+        The piece boundaries, from 0 to dt (pieces of zero length dropped).
+    accels : numpy.ndarray
+        y'' of each piece.
+    piece_velocity : numpy.ndarray
+        y' at the start of every piece and at the end of the period.
+    piece_position : numpy.ndarray
+        y at the start of every piece and at the end of the period.
     switch_times : numpy.ndarray
         Times within [0, dt) at which y'' jumps (piece starts after the first).
     max_abs_acceleration : float
-        max |y''|.
+        The largest ``|y''|``.
     velocity_swing : float
-        max y' - min y': the velocity scale of the motion (|x'| <= it in steady state).
+        max y' - min y': the velocity scale of the motion (``|x'|`` <= it in steady state).
     piecewise_constant : bool
         True: y'' is constant between the times of ``switch_times``.
 
@@ -291,12 +295,11 @@ class ThreePhaseProfile(PiecewiseConstantProfile):
     Three constant-acceleration intervals: 0 on [0, t1), -y2 on
     [t1, t2), +y3 on [t2, t3 = dt).  ``y2`` and ``y3`` are positive magnitudes.
     The switch times and the start state solve the seven constraints of the
-    Appendix in closed form (:func:`~selfalign.model.profiles.three_phase_times`:
-    zero-mean y'' and y', the stroke ``dy``, min y = 0).  A physical profile exists
+    Appendix in closed form (``selfalign.model.profiles.three_phase_times``: zero-mean y''
+    and y', the stroke ``dy``, min y = 0).  A physical profile exists
     iff the feasibility number q = sqrt(8 dy (1/y2 + 1/y3)) / dt is at most 1;
     beyond it lies case 0 of Table 1.  Every parameter is dimensionless, in units of
-    the friction scale of Sect. 3.2, and lies in [1e-30, 1e30]
-    (:data:`~selfalign.model.profiles.MAX_SCALE`).  As a
+    the friction scale of Sect. 3.2, and lies in [1e-30, 1e30] (``MAX_SCALE``).  As a
     :class:`PiecewiseConstantProfile` it is integrated in closed form by the exact
     solver.
 
@@ -313,20 +316,37 @@ class ThreePhaseProfile(PiecewiseConstantProfile):
 
     Attributes
     ----------
-    dt, dy, y2, y3 : float
-        The parameters, as floats.
-    t0, t1, t2, t3 : float
-        The switch times, t0 = 0 and t3 = dt.
-    y_ini, yd_ini : float
-        y and y' at t = 0 (during the dwell, y' = yd_ini > 0).
-    t_top, t_bottom : float
-        The times at which y' crosses zero downwards (y = dy, the maximum) and
-        upwards (y = 0, the minimum).
+    dt : float
+        The period.
+    dy : float
+        The stroke.
+    y2 : float
+        Magnitude of the deceleration phase.
+    y3 : float
+        Magnitude of the acceleration phase.
+    t0 : float
+        0, the start of the dwell.
+    t1 : float
+        End of the dwell: y'' jumps to -y2.
+    t2 : float
+        y'' jumps to +y3.
+    t3 : float
+        dt, the end of the period.
+    y_ini : float
+        y at t = 0.
+    yd_ini : float
+        y' at t = 0, and throughout the dwell; > 0.
+    t_top : float
+        The time at which y' crosses zero downwards (y = dy, the maximum).
+    t_bottom : float
+        The time at which y' crosses zero upwards (y = 0, the minimum).
     feasibility : float
-        q of :func:`~selfalign.model.profiles.three_phase_feasibility`; case 0 is q > 1.
-    breaks, accels : numpy.ndarray
-        The three pieces as a :class:`PiecewiseConstantProfile` (a dwell of zero
-        length, t1 = 0 at q = 1, is dropped).
+        q = sqrt(8 dy (1/y2 + 1/y3)) / dt; case 0 is q > 1.
+    breaks : numpy.ndarray
+        [0, t1, t2, dt], the pieces of the :class:`PiecewiseConstantProfile` (a dwell of
+        zero length, t1 = 0 at q = 1, is dropped).
+    accels : numpy.ndarray
+        [0, -y2, y3].
     kind : str
         ``"three_phase"``, the profile kind of scene files.
 
@@ -664,19 +684,25 @@ class PolynomialProfile(PiecewiseConstantProfile):
     Parameters
     ----------
     dt : float
-        Period, in [1e-30, 1e30] (dimensionless,
-        :data:`~selfalign.model.profiles.MAX_SCALE`).
+        Period, in [1e-30, 1e30] (dimensionless, ``MAX_SCALE``).
     dy : float
         Stroke, in [1e-30, 1e30].
-    forward_fraction : float, default 0.8
-        f, the fraction of the period taken by the forward stroke; in (0, 1).
+    forward_fraction : float, optional
+        f, the fraction of the period taken by the forward stroke; in (0, 1).  Default 0.8.
 
     Attributes
     ----------
-    dt, dy, forward_fraction : float
-        The parameters, as floats.
-    breaks, accels : numpy.ndarray
-        The four parabolas as a :class:`PiecewiseConstantProfile`.
+    dt : float
+        The period.
+    dy : float
+        The stroke.
+    forward_fraction : float
+        The fraction of the period taken by the forward stroke.
+    breaks : numpy.ndarray
+        The boundaries of the four parabolas, the pieces of the
+        :class:`PiecewiseConstantProfile`.
+    accels : numpy.ndarray
+        y'' of each parabola.
     kind : str
         ``"polynomial"``, the profile kind of scene files.
 
@@ -751,18 +777,22 @@ class FourierProfile(Profile):
     ----------
     dt : float
         The period.
-    cos_coeffs, sin_coeffs : numpy.ndarray
-        The coefficients, as float arrays.
+    cos_coeffs : numpy.ndarray
+        a_1 .. a_N, as a float array.
+    sin_coeffs : numpy.ndarray
+        b_1 .. b_N, as a float array.
     order : int
         N, the number of harmonics.
     omega : numpy.ndarray
         The angular frequencies 2 pi k / dt, k = 1..N.
     stroke : float
         max y - min y.
-    peak_velocity, peak_acceleration : float
-        max |y'| and max |y''|.
+    peak_velocity : float
+        The largest ``|y'|``.
+    peak_acceleration : float
+        The largest ``|y''|``.
     max_abs_acceleration : float
-        max |y''|, the same as ``peak_acceleration``.
+        The largest ``|y''|``, the same as ``peak_acceleration``.
     velocity_swing : float
         max y' - min y'.
     kind : str

@@ -34,18 +34,18 @@ class Record:
 
     Parameters
     ----------
-    series : tuple of str, default ()
+    series : tuple of str, optional
         Names of the series to record, from "x", "v", "y", "yd", "ydd", "friction" and
-        "mode" (:data:`~selfalign.model.scene.SERIES`).
-    samples_per_period : int, default 200
+        "mode" (``selfalign.model.scene.SERIES``).  Default (): no dense output.
+    samples_per_period : int, optional
         Dense-output samples per period; an integer in [2, 10,000,000] (an integral float
-        is accepted).
-    events : bool, default False
-        Keep the event log (``Trajectory.events``).
-    arcs : bool, default False
-        Keep the exact solver's arcs.
-    rerun : bool, default False
-        Write a rerun recording of the series; needs at least one series.
+        is accepted).  Default 200.
+    events : bool, optional
+        Keep the event log (``Trajectory.events``).  Default False.
+    arcs : bool, optional
+        Keep the exact solver's arcs.  Default False.
+    rerun : bool, optional
+        Write a rerun recording of the series; needs at least one series.  Default False.
 
     Attributes
     ----------
@@ -113,43 +113,45 @@ class Scene:
     good, accumulation, never stops) but at most ``max_periods`` periods.
     A scene names the table motion, the surface, the start state, the horizon,
     the solver and what to record, and nothing more; scene files (YAML) are read
-    and validated by :mod:`selfalign.io.scene_files`.  A Scene is immutable;
-    :meth:`replace` makes a validated copy.
+    and validated by :func:`~selfalign.load_scene`.  A Scene is immutable; its
+    ``replace`` method makes a validated copy.
 
     Parameters
     ----------
     profile : Profile
-        The table motion y(t), e.g. a :class:`~selfalign.model.profiles.ThreePhaseProfile`.
-    surface : Uniform or StopZone, default Uniform()
-        The friction field mu_bar(x) of the table (Sect. 3.3).
-    friction : FrictionLaw, default FrictionLaw()
-        The :class:`~selfalign.model.friction.FrictionLaw`: the paper's Coulomb friction by
-        default, or static/kinetic or Stribeck friction.
-    x0 : float, default 0.0
-        Relative position at time ``phase * dt``; finite.
-    v0 : float, default 0.0
-        Relative velocity x' at time ``phase * dt``; finite.
-    phase : float, default 0.0
-        Start time as a fraction of the period, in [0, 1).
+        The table motion y(t), e.g. a :class:`~selfalign.ThreePhaseProfile` (any profile of
+        ``selfalign.model.profiles``).
+    surface : Uniform or StopZone, optional
+        The friction field mu_bar(x) of the table (Sect. 3.3).  Default ``Uniform()``.
+    friction : FrictionLaw, optional
+        The friction law (``selfalign.model.friction.FrictionLaw``): the paper's Coulomb
+        friction by default, or static/kinetic or Stribeck friction.
+    x0 : float, optional
+        Relative position at time ``phase * dt``; finite.  Default 0.
+    v0 : float, optional
+        Relative velocity x' at time ``phase * dt``; finite.  Default 0.
+    phase : float, optional
+        Start time as a fraction of the period, in [0, 1).  Default 0.
     periods : int, optional
         Simulate this many periods (an integer in [1, 2**53]); excludes ``until="rest"``.
-    until : {None, "periods", "rest"}, optional
-        "rest": run until a final outcome, at most ``max_periods`` periods.  None: "periods"
-        when ``periods`` is given.
-    max_periods : int, default 10000
-        The horizon of ``until="rest"``; an integer in [1, 2**53].
-    method : {"exact", "moreau", "ivp"}, default "exact"
-        The solver :func:`~selfalign.solvers.driver.simulate` uses by default.
-    solver_options : dict, default {}
-        Options of ``method`` (:mod:`selfalign.solvers.methods`), checked when the scene is
-        simulated or loaded from a file.
-    record : Record, default Record()
-        What the run stores besides the end state.
-    name : str, default "scene"
-        The scene's name (a scene file's stem).
+    until : str, optional
+        "rest": run until a final outcome, at most ``max_periods`` periods; "periods" (the
+        default when ``periods`` is given): ``periods`` periods.
+    max_periods : int, optional
+        The horizon of ``until="rest"``; an integer in [1, 2**53].  Default 10000.
+    method : str, optional
+        The solver :func:`~selfalign.simulate` uses by default: "exact" (the default),
+        "moreau" or "ivp".
+    solver_options : dict, optional
+        Options of ``method`` (``selfalign.solvers.methods``), checked when the scene is
+        simulated or loaded from a file.  Default: none.
+    record : Record, optional
+        What the run stores besides the end state.  Default ``Record()``: the end state only.
+    name : str, optional
+        The scene's name (a scene file's stem).  Default "scene".
     si : SIScale, optional
         The SI scale of a scene file given in SI units.
-    description : str, default ""
+    description : str, optional
         Free text.
 
     Attributes

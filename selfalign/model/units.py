@@ -35,8 +35,12 @@ class SIScale:
 
     Attributes
     ----------
-    mu, g, L : float
-        The parameters.
+    mu : float
+        The friction coefficient.
+    g : float
+        Gravitational acceleration [m/s^2].
+    L : float
+        Characteristic length [m].
     T : float
         Characteristic time sqrt(L / (mu g)) [s].
     DIMENSIONS : dict

@@ -87,16 +87,16 @@ def simulate(scene: Scene, method: str | None = None, **options) -> Trajectory:
     steppers of one compiled driver, which owns the horizon, the outcome decisions and the
     fast-forward of repeating periods; ``ivp`` (scipy's solve_ivp) steps in Python and calls
     the same compiled decisions.  The first call of a process compiles the driver's entry
-    point unless numba's on-disk cache holds it (:mod:`selfalign.solvers.jit`).
+    point unless numba's on-disk cache holds it (``selfalign.solvers.jit``).
 
     Parameters
     ----------
     scene : Scene
         The scene: profile, surface, friction law, start state, horizon and record.
-    method : {"exact", "moreau", "ivp"}, optional
-        The solver; None: the scene's ``method``.
+    method : str, optional
+        The solver, "exact", "moreau" or "ivp"; None: the scene's ``method``.
     **options
-        Options of the method (:mod:`selfalign.solvers.methods`): ``accumulation_tol`` (every
+        Options of the method (``selfalign.solvers.methods``): ``accumulation_tol`` (every
         method), ``max_events`` (exact, ivp), ``h``, ``steps_per_period``, ``iteration``,
         ``fp_tol``, ``fp_max_iter`` (moreau), ``rtol``, ``atol``, ``integrator`` (ivp).
 
@@ -115,8 +115,9 @@ def simulate(scene: Scene, method: str | None = None, **options) -> Trajectory:
         cannot simulate the scene (e.g. the exact solver with a Fourier profile on a stop
         zone or with Stribeck friction, a Moreau horizon of more than 1e10 steps, an
         ``accumulation_tol`` above 1e-6 of the zone width).
-    selfalign.solvers.jit.KernelError
-        If numba is missing or cannot compile the kernel.
+    RuntimeError
+        ``selfalign.solvers.jit.KernelError``, if numba is missing or cannot compile the
+        kernel.
 
     See Also
     --------
@@ -290,23 +291,23 @@ def simulate_batch(profiles, x0, v0=0.0, phase=0.0, *, profile_index=None, surfa
     Every member is one run: its profile, start state and surface may differ, the method,
     its options, the horizon and the friction law are shared.  Per-member inputs are
     scalars or 1-D arrays of one common length B, the number of members; the records of a
-    call may take at most 2 GiB (:data:`~selfalign.solvers.driver.BATCH_MEMORY_LIMIT`,
-    estimated before any is allocated: simulate more members in parts).  ``ivp`` is not offered here (use
+    call may take at most 2 GiB (``BATCH_MEMORY_LIMIT``, estimated before any is allocated:
+    simulate more members in parts).  ``ivp`` is not offered here (use
     :func:`simulate`).
 
     Parameters
     ----------
-    profiles : Profile, sequence of Profile, or ProfileTable
+    profiles : Profile, list of Profile, or ProfileTable
         One profile, a sequence of profiles, or a
         :class:`~selfalign.solvers.tables.ProfileTable` (vectorised three-phase sweeps); a
         batch runs one kind of profile (all piecewise-constant, or all Fourier).
     x0 : float or array_like
         Start position at time ``phase * dt`` (scalar or one per member).
-    v0 : float or array_like, default 0.0
-        Start velocity at time ``phase * dt`` (scalar or one per member).
-    phase : float or array_like, default 0.0
+    v0 : float or array_like, optional
+        Start velocity at time ``phase * dt`` (scalar or one per member).  Default 0.
+    phase : float or array_like, optional
         Start time as a fraction of the period, in [0, 1) (scalar or one per member; Moreau
-        needs one phase for all).
+        needs one phase for all).  Default 0.
     profile_index : array_like of int, optional
         Picks each member's profile (default: all the one profile, or one profile per member).
     surface : Uniform or StopZone, optional
@@ -318,19 +319,21 @@ def simulate_batch(profiles, x0, v0=0.0, phase=0.0, *, profile_index=None, surfa
     levels : array_like, optional
         (L,) or (B, L): absolute positions whose first crossing is recorded (after x_mu and
         x_mu + w); not NaN (+inf: never reached).
-    until : {"rest", "periods", "stick", "cycle"}, default "rest"
-        "periods" (``periods``), "rest" (at most ``max_periods``), "stick" (the first stick
-        event) or "cycle" (until the period-boundary state repeats, at most ``max_periods``).
+    until : str, optional
+        "periods" (``periods``), "rest" (the default; at most ``max_periods``), "stick" (the
+        first stick event) or "cycle" (until the period-boundary state repeats, at most
+        ``max_periods``).
     periods : int, optional
         The horizon of ``until="periods"``.
-    max_periods : int, default 10000
-        The horizon of the other rules.
-    method : {"exact", "moreau"}, default "exact"
-        The compiled solver.
-    max_cycle : int, default 8
-        The longest period of a repeating motion that is recognised, in [1, 1024].
-    fast_forward : bool, default True
-        False simulates every period even when the period-boundary state repeats (benchmarks).
+    max_periods : int, optional
+        The horizon of the other rules.  Default 10000.
+    method : str, optional
+        The compiled solver, "exact" (the default) or "moreau".
+    max_cycle : int, optional
+        The longest period of a repeating motion that is recognised, in [1, 1024].  Default 8.
+    fast_forward : bool, optional
+        False simulates every period even when the period-boundary state repeats
+        (benchmarks).  Default True.
     friction : FrictionLaw, optional
         The :class:`~selfalign.model.friction.FrictionLaw` of every member (default Coulomb).
     **options
@@ -357,11 +360,12 @@ def simulate_batch(profiles, x0, v0=0.0, phase=0.0, *, profile_index=None, surfa
         ``profile_index`` lies outside the profiles; ``phase`` lies outside [0, 1) (or
         differs between Moreau members); a Uniform ``surface`` comes with ``x_mu``, ``w``
         or ``c_mu``, or ``w``, ``c_mu`` come without ``x_mu``; a zone has ``w`` <= 0,
-        ``c_mu`` < 1, |x_mu| > 2**32 w or an ``accumulation_tol`` above 1e-6 of w; the exact
+        ``c_mu`` < 1, ``|x_mu| > 2**32 w`` or an ``accumulation_tol`` above 1e-6 of w; the exact
         solver gets a Fourier profile on a stop zone; ``levels`` holds NaN; or the records
         would exceed 2 GiB.
-    selfalign.solvers.jit.KernelError
-        If numba is missing or cannot compile the kernel.
+    RuntimeError
+        ``selfalign.solvers.jit.KernelError``, if numba is missing or cannot compile the
+        kernel.
 
     See Also
     --------

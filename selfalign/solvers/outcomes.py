@@ -17,7 +17,7 @@ class Status(str, Enum):
 
     One vocabulary for how every run ends, scalar and batch, for every method: a run ends
     for one :class:`Reason`, and each reason belongs to one status.  Status is a ``str``
-    enum, so each member equals its value.  :class:`~selfalign.solvers.results.BatchResult`
+    enum, so each member equals its value.  :class:`~selfalign.BatchResult`
     stores status codes, the index of a status in ``list(Status)``.
 
     Attributes
@@ -26,7 +26,7 @@ class Status(str, Enum):
         "horizon": the requested horizon was simulated, or no final outcome within
         max_periods.
     REST : str
-        "rest": stuck where mu_bar(x) >= max|y''|: at rest for good.
+        "rest": stuck where mu_bar(x) >= max ``|y''|``: at rest for good.
     ACCUMULATION : str
         "accumulation": stick positions converge geometrically to a limit (Sect. 7.3).
     NEVER_STOPS : str
@@ -62,7 +62,7 @@ class Reason(IntEnum):
     """Why a run ended: the detail behind its :class:`Status` (codes stored in results).
 
     Each reason belongs to one status (its ``status`` property) and has one message template
-    (:data:`~selfalign.solvers.outcomes.MESSAGES`).  The compiled driver writes reason codes,
+    (``selfalign.solvers.outcomes.MESSAGES``).  The compiled driver writes reason codes,
     and the Python results turn them into a status and a message.
 
     Attributes
@@ -78,7 +78,7 @@ class Reason(IntEnum):
     FIRST_STICK : int
         3, HORIZON: until='stick', the first stick event.
     REST : int
-        4, REST: a stick where mu_bar(x) >= max|y''|.
+        4, REST: a stick where mu_bar(x) >= max ``|y''|``.
     ACCUMULATION : int
         5, ACCUMULATION: zone stick positions converge to x_stick_min (eq. 41).
     PERIODIC : int
@@ -215,7 +215,7 @@ class EventKind(IntEnum):
     """Kinds of events in the event log (the code stored in ``events['kind']``).
 
     The exact solver and ivp log the events of a run when the scene's
-    :class:`~selfalign.model.scene.Record` asks for them (``events=True``); Moreau
+    :class:`~selfalign.Record` asks for them (``events=True``); Moreau
     time-stepping locates no events.
 
     Attributes
@@ -223,9 +223,9 @@ class EventKind(IntEnum):
     SWITCH : int
         0: the table acceleration jumps (a profile switch time).
     STICK : int
-        1: slip ends in stick (relative velocity reaches zero and |y''| <= mu_bar).
+        1: slip ends in stick (relative velocity reaches zero and ``|y''|`` <= mu_bar).
     SLIP : int
-        2: stick ends: |y''| exceeds mu_bar.
+        2: stick ends: ``|y''|`` exceeds mu_bar.
     REVERSAL : int
         3: the relative velocity passes through zero and the slip changes direction.
     ZONE : int

@@ -30,11 +30,10 @@ class Trajectory:
     absolute x) when asked for; ``stats`` holds ``events``, ``steps``, ``cpu_time``;
     ``info`` outcome details (e.g. ``limit``, ``contraction`` of an accumulation,
     ``net_advance`` of a walk).  Like scipy's ``OdeResult``: the end state, a
-    :class:`~selfalign.solvers.outcomes.Status` with its
-    :class:`~selfalign.solvers.outcomes.Reason` and a message (the same vocabulary as
-    :class:`BatchResult`, :mod:`selfalign.solvers.outcomes`); dense series, the event log
-    and the arcs only when the scene's :class:`~selfalign.model.scene.Record` asked for
-    them.  The recorded series also read as attributes (``traj.x``).
+    :class:`~selfalign.Status` with its :class:`~selfalign.Reason` and a message (the same
+    vocabulary as :class:`~selfalign.BatchResult`, ``selfalign.solvers.outcomes``); dense
+    series, the event log and the arcs only when the scene's :class:`~selfalign.Record`
+    asked for them.  The recorded series also read as attributes (``traj.x``).
 
     Parameters
     ----------
@@ -57,7 +56,7 @@ class Trajectory:
     series : dict
         Recorded name -> array (empty without dense output).
     events : numpy.ndarray or None
-        The event log (:class:`~selfalign.solvers.outcomes.EventKind` codes in ``kind``).
+        The event log (:class:`~selfalign.EventKind` codes in ``kind``).
     arcs : numpy.ndarray or None
         The exact solver's arcs.
     stats : dict
@@ -71,8 +70,24 @@ class Trajectory:
     ----------
     success : bool
         False when the status is ERROR.
-    t, x, v, y, yd, ydd, friction, mode : numpy.ndarray
-        The recorded series of those names (``series[name]``).
+    t : numpy.ndarray
+        Times of the samples, period * dt + tau (``series["t"]``; any recorded series brings
+        it).
+    x : numpy.ndarray
+        Position x of the mass relative to the table (``series["x"]``; likewise below).
+    v : numpy.ndarray
+        Relative velocity x'.
+    y : numpy.ndarray
+        Table position.
+    yd : numpy.ndarray
+        Table velocity y'.
+    ydd : numpy.ndarray
+        Table acceleration y''.
+    friction : numpy.ndarray
+        Friction force: mu_bar mu(v) mode in slip (mu(v) = 1 but for Stribeck friction),
+        -y'' in stick (eq. 5).
+    mode : numpy.ndarray
+        Mode codes: -1 backward slip, 0 stick, 1 forward slip.
 
     Raises
     ------
@@ -152,8 +167,8 @@ class BatchResult:
     on a uniform surface); ``crossings`` (B, nb) of
     :data:`~selfalign.solvers.records.CROSS_DTYPE`: the first time x reached each
     (period -1: never), the velocity there and the stick events at x >= x_mu before it.
-    Each member ends with a :class:`~selfalign.solvers.outcomes.Reason` and its
-    :class:`~selfalign.solvers.outcomes.Status`, the vocabulary of :class:`Trajectory`.
+    Each member ends with a :class:`~selfalign.Reason` and its :class:`~selfalign.Status`,
+    the vocabulary of :class:`~selfalign.Trajectory`.
     ``len(result)`` is the number of members B.
 
     Parameters
@@ -180,21 +195,29 @@ class BatchResult:
     Attributes
     ----------
     reason : numpy.ndarray
-        :class:`~selfalign.solvers.outcomes.Reason` codes (int8).
+        :class:`~selfalign.Reason` codes (int8).
     status : numpy.ndarray
         Status codes (int8): the index of each member's status in ``list(Status)``.
-    x_end, v_end : numpy.ndarray
-        The final state (for an accumulation, the limit), x absolute.
-    period_end, tau_end : numpy.ndarray
-        Completed periods and the time within the period at the end.
+    x_end : numpy.ndarray
+        The final position (for an accumulation, the limit), absolute.
+    v_end : numpy.ndarray
+        The final velocity x'.
+    period_end : numpy.ndarray
+        Completed periods at the end.
+    tau_end : numpy.ndarray
+        The time within the period at the end.
     t_end : numpy.ndarray
         End times in periods, n_end + tau_end / dt.
-    events, stick_events : numpy.ndarray
-        Number of events and of stick events of each run.
+    events : numpy.ndarray
+        Number of events of each run.
+    stick_events : numpy.ndarray
+        Number of stick events of each run.
     zone_sticks : numpy.ndarray
         Stick events at x >= x_mu.
-    first_stick_x, first_stick_time : numpy.ndarray
-        Position of the first stick at x >= x_mu and its time in periods (NaN if none).
+    first_stick_x : numpy.ndarray
+        Position of the first stick at x >= x_mu (NaN if none).
+    first_stick_time : numpy.ndarray
+        Time of the first stick at x >= x_mu, in periods (NaN if none).
     contraction : numpy.ndarray
         Ratio of the last two zone-stick increments of an accumulation (NaN otherwise).
     advance : numpy.ndarray

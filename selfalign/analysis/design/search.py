@@ -140,14 +140,13 @@ def design(spec: DesignSpec, *, progress: str = "auto") -> Design:
     """The guaranteed three-phase design of ``spec`` (module docstring) and its trade-offs.
 
     The trade-offs: ``front_time_error`` (the designs not dominated in closed-form process
-    time and end spread over mu, the first
-    :data:`~selfalign.model.design_spec.FRONT_SIMULATED` of them simulated: ``t_arrive``,
+    time and end spread over mu, the first :data:`FRONT_SIMULATED` of them simulated: ``t_arrive``,
     ``error``, ``guaranteed``) and ``front_time_margin`` (closed-form process time against
     the robustness margin).
 
     The two objectives of Sect. 2: bring the part to x_d in the least process time and stop
     it there with the smallest positioning error (module docstring of
-    :mod:`selfalign.analysis.design`).  A grid over (period, stroke, y2'', y3'', c_mu)
+    ``selfalign.analysis.design``).  A grid over (period, stroke, y2'', y3'', c_mu)
     inside the actuator's limits is screened with closed forms at 65 values of mu across
     [mu (1 - delta), mu (1 + delta)]: a physical profile (q <= 1), forward motion, a strip
     that can hold the part (eq. 41) and, where accumulation is asked for, y2'' > y3''.
@@ -165,8 +164,9 @@ def design(spec: DesignSpec, *, progress: str = "auto") -> Design:
     ----------
     spec : DesignSpec
         The machine, the part, the actuator's limits and the task, in SI units.
-    progress : {"auto", "bar", "log", "quiet"}, default "auto"
-        How the candidates verified are reported (:mod:`selfalign.progress`).
+    progress : str, optional
+        How the candidates verified are reported (``selfalign.progress``): "auto" (the
+        default), "bar", "log" or "quiet".
 
     Returns
     -------
@@ -185,8 +185,9 @@ def design(spec: DesignSpec, *, progress: str = "auto") -> Design:
     ValueError
         If ``spec`` is not a DesignSpec, or ``progress`` (or, with "auto", the environment
         variable ``SELFALIGN_PROGRESS``) is not one of the modes.
-    selfalign.solvers.jit.KernelError
-        If numba is missing or cannot compile the kernel.
+    RuntimeError
+        ``selfalign.solvers.jit.KernelError``, if numba is missing or cannot compile the
+        kernel.
 
     See Also
     --------
