@@ -113,6 +113,20 @@ def test_docstring_has_the_numpydoc_sections(name):
 
 
 @pytest.mark.parametrize("name", EXPORTED)
+def test_docstring_renders_on_the_documentation_site(name):
+    """The documentation site renders these docstrings with napoleon and resolves every type as a
+    cross-reference (docs/conf.py, ``sphinx-build -n``): each Attributes entry names one attribute
+    (napoleon renders them one by one), and a type is plain type names, its default and choices
+    in the description (napoleon would look up "default 0.0" or '{"exact"' as classes)."""
+    doc, _ = sections(exported(name))
+    combined = [p.name for p in doc["Attributes"] if "," in p.name]
+    assert not combined, f"selfalign.{name}: Attributes entries with several names: {combined}"
+    bad = [f"{p.name} : {p.type}" for section in ("Parameters", "Attributes") for p in doc[section]
+           if "{" in p.type or "default" in p.type]
+    assert not bad, f"selfalign.{name}: types with a default or a set of choices: {bad}"
+
+
+@pytest.mark.parametrize("name", EXPORTED)
 def test_docstring_passes_numpydoc_validation(name):
     """numpydoc's validator finds none of :data:`CHECKS` in the docstring: one-line summary ending
     with a period, extended summary, every parameter documented with a type and a description in
