@@ -41,6 +41,8 @@ autodoc_typehints_format = "short"
 napoleon_numpy_docstring = True
 napoleon_google_docstring = False
 napoleon_use_rtype = False
+# Attributes sections as :ivar: fields: autodoc documents the members themselves, once.
+napoleon_use_ivar = True
 
 # Every cross-reference must resolve (-n).  The documentation is built offline, so the types
 # of numpy, scipy, h5py, click and the standard library that annotations name have no target.
