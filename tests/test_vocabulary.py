@@ -47,3 +47,58 @@ def test_every_text_enum_is_a_str_enum():
     bad = {str(path.relative_to(PACKAGE)): names for path in sorted(PACKAGE.rglob("*.py"))
            if (names := text_enums_not_str_enum(path.read_text()))}
     assert not bad, bad
+
+
+def subclasses_of_base(source: str) -> dict[str, str]:
+    """Classes in ``source`` with ``SelfalignError`` among their bases: name -> "Name(Base, ...)"."""
+    return {node.name: f"{node.name}({', '.join(ast.unparse(base).split('.')[-1] for base in node.bases)})"
+            for node in ast.walk(ast.parse(source)) if isinstance(node, ast.ClassDef)
+            and any(ast.unparse(base).split(".")[-1] == "SelfalignError" for base in node.bases)}
+
+
+def test_library_errors_share_one_base_and_keep_their_builtin_one():
+    """Hypothesis: every exception of the library is a SelfalignError and still the builtin error
+    that ``except`` clauses written before the base existed catch (ValueError, RuntimeError)."""
+    from selfalign.io.design_spec import DesignSpecError
+    from selfalign.model.errors import NonPhysicalProfile, SceneError, SelfalignError
+    from selfalign.solvers.jit import KernelError
+
+    for error, builtin in ((NonPhysicalProfile, ValueError), (SceneError, ValueError),
+                           (DesignSpecError, ValueError), (KernelError, RuntimeError)):
+        assert issubclass(error, SelfalignError) and issubclass(error, builtin), error
+    assert not issubclass(SelfalignError, (ValueError, RuntimeError))
+
+
+def test_design_spec_error_is_not_a_scene_error(tmp_path):
+    """Hypothesis: a bad design spec file raises DesignSpecError, which ``except SelfalignError`` and
+    ``except ValueError`` catch and ``except SceneError`` does not (a spec is not a scene)."""
+    from selfalign.io.design_spec import DesignSpecError, load_design_spec
+    from selfalign.model.errors import SceneError, SelfalignError
+
+    path = tmp_path / "spec.yaml"
+    path.write_text("machine: [\n")
+    try:
+        load_design_spec(path)
+    except SceneError:
+        raise AssertionError("a design spec error was caught as a SceneError") from None
+    except SelfalignError as exc:
+        assert isinstance(exc, DesignSpecError) and isinstance(exc, ValueError), exc
+        assert str(exc).startswith(f"{path}: not valid YAML"), exc
+    else:
+        raise AssertionError("a spec that is not YAML was read")
+
+
+def test_errors_module_documents_every_library_error():
+    """Hypothesis: the hierarchy drawn in selfalign.model.errors' docstring names every class of the
+    package that derives from SelfalignError, with its bases as the source declares them; the scan
+    finds such a class."""
+    from selfalign.model import errors
+
+    assert subclasses_of_base("class E(errors.SelfalignError, ValueError):\n    pass\n") == {
+        "E": "E(SelfalignError, ValueError)"}
+    found = {}
+    for path in sorted(PACKAGE.rglob("*.py")):
+        found.update(subclasses_of_base(path.read_text()))
+    assert set(found) >= {"NonPhysicalProfile", "SceneError", "DesignSpecError", "KernelError"}
+    missing = [declared for declared in found.values() if declared not in errors.__doc__]
+    assert not missing, missing

@@ -12,13 +12,14 @@ from importlib import resources
 from pathlib import Path
 
 from ..model.design_spec import DesignGrid, DesignSpec, period_from_frequency
-from ..model.errors import SceneError
+from ..model.errors import SelfalignError
 from ..model.friction import FrictionLaw
 from .scene_files import first_non_finite, read_yaml, schema_error_message
 
 
-class DesignSpecError(SceneError):
-    """A design spec file is invalid; the message names the file and the key."""
+class DesignSpecError(SelfalignError, ValueError):
+    """A design spec file is invalid; the message names the file and the key.  Not a
+    ``SceneError``: a spec is not a scene."""
 
 
 @lru_cache(maxsize=1)

@@ -2,6 +2,22 @@
 
 Every check raises before any work starts, with a one-line message naming
 the offending quantity and what is allowed.
+
+The library's own exceptions share one base, so ``except selfalign.SelfalignError`` catches
+every one of them; each also keeps a builtin base, so ``except ValueError`` (or
+``RuntimeError``) catches it too::
+
+    SelfalignError(Exception)
+    ├── NonPhysicalProfile(SelfalignError, ValueError)  a three-phase profile with no real solution
+    ├── SceneError(SelfalignError, ValueError)          an invalid scene file or Scene object
+    ├── DesignSpecError(SelfalignError, ValueError)     an invalid design spec file
+    │                                                   (selfalign.io.design_spec; not a SceneError)
+    └── KernelError(SelfalignError, RuntimeError)       the compiled kernel cannot be imported or
+                                                        compiled (selfalign.solvers.jit)
+
+Wrong input outside these files is a builtin error: TypeError for a wrong type
+(:func:`check_real`, :func:`check_integer`), ValueError for a wrong value
+(:func:`check_finite`, :func:`check_positive`).
 """
 
 from __future__ import annotations
@@ -11,15 +27,43 @@ import numbers
 from importlib.util import find_spec
 
 
-class NonPhysicalProfile(ValueError):
+class SelfalignError(Exception):
+    """Base of the library's own exceptions.
+
+    ``except selfalign.SelfalignError`` catches every exception the library raises on purpose:
+    :class:`~selfalign.NonPhysicalProfile`, :class:`~selfalign.SceneError` and
+    :class:`~selfalign.DesignSpecError` (each also a ValueError) and
+    :class:`~selfalign.KernelError` (also a RuntimeError).  Wrong arguments of a function or
+    class are the builtin TypeError or ValueError (the module docstring of
+    ``selfalign.model.errors`` draws the hierarchy).
+
+    See Also
+    --------
+    SceneError : An invalid scene file or Scene object.
+    DesignSpecError : An invalid design spec file.
+
+    Examples
+    --------
+    >>> import selfalign as sa
+    >>> try:
+    ...     sa.ThreePhaseProfile(dt=1.0, dy=1.0, y2=1.0, y3=1.0)
+    ... except sa.SelfalignError as exc:
+    ...     print(type(exc).__name__, isinstance(exc, ValueError))
+    NonPhysicalProfile True
+    >>> issubclass(sa.KernelError, sa.SelfalignError), issubclass(sa.KernelError, RuntimeError)
+    (True, True)
+    """
+
+
+class NonPhysicalProfile(SelfalignError, ValueError):
     """The requested three-phase profile has no real solution (the paper's case 0).
 
     The seven constraints of the Appendix (Sect. 4.4.3) have a real solution only while the
     feasibility number q = sqrt(8 dy (1/y2 + 1/y3)) / dt is at most 1; beyond it lies case 0 of
     Table 1.  :class:`~selfalign.ThreePhaseProfile` (and its finite-jerk version)
     raises this error before any work, with one line naming the largest stroke that is
-    physical.  It is a ValueError, so ``except ValueError`` catches it too; scene files report
-    it as a :class:`SceneError` naming the file.
+    physical.  It is a :class:`SelfalignError` and a ValueError, so ``except ValueError``
+    catches it too; scene files report it as a :class:`SceneError` naming the file.
 
     See Also
     --------
@@ -40,16 +84,16 @@ class NonPhysicalProfile(ValueError):
     """
 
 
-class SceneError(ValueError):
+class SceneError(SelfalignError, ValueError):
     """A scene file or Scene object is invalid; the message names file and key.
 
     Raised before any work starts, with a one-line message naming the offending quantity and
     what is allowed: by :class:`~selfalign.Scene` and :class:`~selfalign.Record` for a bad
     field, and by :func:`~selfalign.load_scene` and :func:`~selfalign.scene_from_dict` for a
     file or mapping that cannot be read, breaks the schema or describes no physical scene (the
-    message then starts with the file and the key).  Design spec files raise its subclass
-    ``selfalign.io.design_spec.DesignSpecError``.  It is a ValueError, so
-    ``except ValueError`` catches it too.
+    message then starts with the file and the key).  Design spec files raise
+    :class:`~selfalign.DesignSpecError` instead, which is not a SceneError.  It is a
+    :class:`SelfalignError` and a ValueError, so ``except ValueError`` catches it too.
 
     See Also
     --------

@@ -30,6 +30,8 @@ import sys
 import time
 from pathlib import Path
 
+from ..model.errors import SelfalignError
+
 #: Source files the compiled kernel is built from (relative to the package): the kernel and every
 #: module of the package it imports, directly or not (tests/test_jit.py checks the closure).
 SOURCES = tuple(f"solvers/engine/{name}.py" for name in (
@@ -46,7 +48,7 @@ _kernel = None
 _announced = False
 
 
-class KernelError(RuntimeError):
+class KernelError(SelfalignError, RuntimeError):
     """The compiled event kernel cannot be imported or compiled on this machine."""
 
 
