@@ -102,3 +102,51 @@ def test_errors_module_documents_every_library_error():
     assert set(found) >= {"NonPhysicalProfile", "SceneError", "DesignSpecError", "KernelError"}
     missing = [declared for declared in found.values() if declared not in errors.__doc__]
     assert not missing, missing
+
+
+#: Names a user constructs or catches that the top level must offer.
+REQUIRED_EXPORTS = {"SelfalignError", "SceneError", "DesignSpecError", "KernelError", "NonPhysicalProfile",
+                    "FiniteJerkProfile", "FrictionLaw", "ThreePhaseProfile", "StopZone", "Scene", "Status"}
+
+
+def test_every_export_resolves_to_its_definition():
+    """Hypothesis: each name of ``selfalign.__all__`` loads from the module ``_EXPORTS`` names for it,
+    and is the object defined there (no name points at a missing or re-bound object)."""
+    import importlib
+
+    assert REQUIRED_EXPORTS <= set(sa.__all__)
+    assert set(sa.__all__) == set(sa._EXPORTS) | {"__version__"}
+    for name, module in sa._EXPORTS.items():
+        value = getattr(sa, name)
+        assert value is getattr(importlib.import_module(f"selfalign.{module}"), name), name
+        assert value.__module__.startswith(f"selfalign.{module}"), (name, value.__module__)
+
+
+def test_examples_use_exported_names(repo):
+    """Hypothesis: every ``sa.<name>`` in the Python examples of the README and the documentation
+    pages written by hand is a top-level name."""
+    import re
+
+    pages = [repo / "README.md", *(p for p in (repo / "docs").rglob("*.md")
+                                   if "_build" not in p.parts and "generated" not in p.parts)]
+    blocks = [block for page in pages for block in re.findall(r"```python\n(.*?)```", page.read_text(), re.S)]
+    used = {name for block in blocks for name in re.findall(r"\bsa\.([A-Za-z_]\w*)", block)}
+    assert used, "no Python example uses sa."
+    assert used <= set(sa.__all__), sorted(used - set(sa.__all__))
+
+
+def test_exported_functions_return_exported_classes():
+    """Hypothesis: what an exported function returns, when its annotation names a class of the package,
+    is a top-level name too, so a user can annotate with ``sa.<Class>``."""
+    import inspect
+
+    missing = {}
+    for name in sa._EXPORTS:
+        value = getattr(sa, name)
+        if inspect.isfunction(value):
+            returned = inspect.signature(value).return_annotation
+            defined = getattr(inspect.getmodule(value), str(returned), None)
+            if inspect.isclass(defined) and defined.__module__.startswith("selfalign."):
+                if getattr(sa, defined.__name__, None) is not defined:
+                    missing[name] = defined.__name__
+    assert not missing, missing
