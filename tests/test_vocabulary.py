@@ -150,3 +150,71 @@ def test_exported_functions_return_exported_classes():
                 if getattr(sa, defined.__name__, None) is not defined:
                     missing[name] = defined.__name__
     assert not missing, missing
+
+
+STUB = PACKAGE / "__init__.pyi"
+
+
+def test_stub_declares_exactly_the_exported_names():
+    """Hypothesis: selfalign/__init__.pyi re-exports (``from .module import Name as Name``) each name of
+    ``selfalign.__all__`` from the module ``_EXPORTS`` loads it from, and declares ``__version__: str``;
+    nothing more, nothing less."""
+    declared = {}
+    for node in ast.parse(STUB.read_text()).body:
+        if isinstance(node, ast.ImportFrom):
+            for alias in node.names:
+                assert alias.asname == alias.name, f"{alias.name} is not re-exported as itself"
+                declared[alias.name] = "." * node.level + node.module
+        elif isinstance(node, ast.AnnAssign):
+            declared[node.target.id] = ast.unparse(node.annotation)
+    assert set(declared) == set(sa.__all__), set(declared) ^ set(sa.__all__)
+    assert declared.pop("__version__") == "str"
+    assert declared == {name: f".{module}" for name, module in sa._EXPORTS.items()}
+
+
+def mypy(tmp_path, repo, source: str):
+    """(exit code, output) of mypy on ``source`` with the package of this tree on its path."""
+    import os
+    import subprocess
+    import sys
+
+    (tmp_path / "use.py").write_text(source)
+    env = {**os.environ, "MYPYPATH": str(repo)}
+    proc = subprocess.run([sys.executable, "-m", "mypy", "--follow-imports=silent", "--no-error-summary",
+                           "--cache-dir", str(tmp_path / "cache"), "use.py"],
+                          cwd=tmp_path, env=env, capture_output=True, text=True, timeout=300)
+    return proc.returncode, proc.stdout + proc.stderr
+
+
+def test_mypy_accepts_the_exported_names(tmp_path, repo):
+    """Hypothesis: a user's code that annotates with the exported classes, calls the exported
+    functions and catches the exported errors type-checks (mypy exits 0), and mypy knows what the
+    functions return; a misuse of the same names is an error, which it could not be if mypy saw the
+    lazily loaded names as Any."""
+    code, out = mypy(tmp_path, repo, """\
+import numpy as np
+
+import selfalign as sa
+
+status: sa.Status = sa.Status.REST
+profile: sa.ThreePhaseProfile = sa.ThreePhaseProfile(1.05, 0.084, 2.2, 0.9)
+zone = sa.StopZone(0.5, 0.05, 2.5)
+traj: sa.Trajectory = sa.simulate(sa.Scene(profile, zone, until="rest"))
+batch: sa.BatchResult = sa.simulate_batch(profile, np.zeros(2), surface=zone)
+state: sa.SteadyState = sa.steady_state(profile)
+try:
+    scene: sa.Scene = sa.load_scene("scene.yaml")
+except sa.SelfalignError as exc:
+    message: str = str(exc)
+friction = sa.FrictionLaw("static_kinetic", 1.3)
+ramped = sa.FiniteJerkProfile(1.05, 0.084, 2.2, 0.9, ramp=1e-3)
+errors: tuple[type[Exception], ...] = (sa.SceneError, sa.DesignSpecError, sa.KernelError, sa.NonPhysicalProfile)
+version: str = sa.__version__
+reveal_type(traj)
+""")
+    assert code == 0, out
+    assert 'Revealed type is "selfalign.solvers.results.Trajectory"' in out, out
+    code, out = mypy(tmp_path, repo, "import selfalign as sa\n\ncount: int = sa.Status.REST\nsa.simulat\n")
+    assert code == 1, out
+    assert 'use.py:3: error: Incompatible types in assignment (expression has type "Status"' in out, out
+    assert 'use.py:4: error: Module has no attribute "simulat"' in out, out
