@@ -50,6 +50,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..model import arcs as _arcs
+from ..model.errors import check_real
 from ..model.friction import StopZone, Uniform
 from ..model.profiles import Profile, ThreePhaseProfile
 from ..model.scene import Record, Scene
@@ -111,7 +112,7 @@ def _system(profile_or_scene):
         return s.profile, s.surface, s.x0, s.v0, s.phase
     if isinstance(profile_or_scene, Profile):
         return profile_or_scene, Uniform(), 0.0, 0.0, 0.0
-    raise ValueError(f"floquet needs a selfalign profile or Scene, got {type(profile_or_scene).__name__}")
+    raise TypeError(f"floquet needs a selfalign profile or Scene, got {type(profile_or_scene).__name__}")
 
 
 def _check_options(method, options):
@@ -124,14 +125,15 @@ def _check_options(method, options):
     opts = {**allowed, **options}
     if "max_periods" in opts:
         mp = opts["max_periods"]
-        if isinstance(mp, bool) or not isinstance(mp, numbers.Integral) or mp < 1:
+        if isinstance(mp, bool) or not isinstance(mp, numbers.Real):
+            raise TypeError(f"option max_periods must be an integer, got {mp!r} ({type(mp).__name__})")
+        if not isinstance(mp, numbers.Integral) or mp < 1:
             raise ValueError(f"option max_periods must be an integer >= 1, got {mp!r}")
     if method == "numeric":
         if opts["solver"] not in NUMERIC_SOLVERS:
             raise ValueError(f"option solver must be one of {list(NUMERIC_SOLVERS)}, got {opts['solver']!r}")
         eps = opts["eps"]
-        if eps is not None and (isinstance(eps, bool) or not isinstance(eps, numbers.Real)
-                                or not 0.0 < eps < 1.0):
+        if eps is not None and not 0.0 < check_real("option eps", eps) < 1.0:
             raise ValueError(f"option eps (finite-difference step) must be a number in (0, 1), got {eps!r}")
         h = opts["h"]
         if opts["solver"] == "exact" and h is not None:

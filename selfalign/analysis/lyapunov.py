@@ -36,6 +36,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..model import arcs as _arcs
+from ..model.errors import check_finite
 from ..model.friction import Uniform
 from ..model.profiles import Profile
 from ..model.scene import Record, Scene
@@ -140,14 +141,15 @@ def _check(profile_or_scene, v10, v20, periods, phase, samples_per_period):
     elif isinstance(profile_or_scene, Profile):
         profile = profile_or_scene
     else:
-        raise ValueError(f"lyapunov_trace needs a selfalign profile or Scene, got {type(profile_or_scene).__name__}")
+        raise TypeError(f"lyapunov_trace needs a selfalign profile or Scene, got {type(profile_or_scene).__name__}")
     for name, value in (("v10", v10), ("v20", v20), ("phase", phase)):
-        if isinstance(value, bool) or not isinstance(value, numbers.Real) or not np.isfinite(value):
-            raise ValueError(f"{name} must be a finite number, got {value!r}")
+        check_finite(name, value)
     if not 0.0 <= phase < 1.0:
         raise ValueError(f"phase must lie in [0, 1) (fraction of the period), got {phase!r}")
     for name, value, low in (("periods", periods, 1), ("samples_per_period", samples_per_period, 2)):
-        if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < low:
+        if isinstance(value, bool) or not isinstance(value, numbers.Real):
+            raise TypeError(f"{name} must be an integer, got {value!r} ({type(value).__name__})")
+        if not isinstance(value, numbers.Integral) or value < low:
             raise ValueError(f"{name} must be an integer >= {low}, got {value!r}")
     return profile
 

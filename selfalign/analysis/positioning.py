@@ -368,7 +368,7 @@ def positioning(profile: ThreePhaseProfile, *, w: float, c_mu: float, n_entries:
 def _friction(friction) -> FrictionLaw:
     friction = FrictionLaw() if friction is None else friction
     if not isinstance(friction, FrictionLaw):
-        raise ValueError(f"friction must be a FrictionLaw, got {friction!r}")
+        raise TypeError(f"friction must be a FrictionLaw, got {friction!r}")
     return friction
 
 
@@ -376,7 +376,7 @@ def _positioning(profile, w, c_mu, n_entries, offset, max_periods, accumulation_
                  ramp=0.0):
     """(per-entry runs of the one setting, Positioning) with the level crossings of ``levels``."""
     if not isinstance(profile, ThreePhaseProfile):
-        raise ValueError(f"positioning needs a ThreePhaseProfile, got {type(profile).__name__}")
+        raise TypeError(f"positioning needs a ThreePhaseProfile, got {type(profile).__name__}")
     _check_zone(w, c_mu, n_entries, offset, max_periods, ramp, accumulation_tol, 1, levels.size)
     arrays = [np.array([v]) for v in (profile.dt, profile.dy, profile.y2, profile.y3)]
     if ramp > 0.0:

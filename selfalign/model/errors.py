@@ -15,9 +15,12 @@ every one of them; each also keeps a builtin base, so ``except ValueError`` (or
     └── KernelError(SelfalignError, RuntimeError)       the compiled kernel cannot be imported or
                                                         compiled (selfalign.solvers.jit)
 
-Wrong input outside these files is a builtin error: TypeError for a wrong type
-(:func:`check_real`, :func:`check_integer`), ValueError for a wrong value
-(:func:`check_finite`, :func:`check_positive`).
+Wrong input to a function or class is a builtin error: TypeError for an argument of the wrong
+type (a string or an array where a number is expected, a number where a profile is expected:
+:func:`check_real`, :func:`check_real_array`, :func:`check_integer`), ValueError (or SceneError,
+for a Scene) for a wrong value (negative, NaN, out of range: :func:`check_finite`,
+:func:`check_positive`).  A scene file or design spec, and the dict of one, is a document: any
+problem in it, of type or value, is a SceneError or DesignSpecError naming the key.
 """
 
 from __future__ import annotations
@@ -25,6 +28,8 @@ from __future__ import annotations
 import math
 import numbers
 from importlib.util import find_spec
+
+import numpy as np
 
 
 class SelfalignError(Exception):
@@ -141,6 +146,16 @@ def check_real(name: str, value) -> float:
         raise TypeError(f"{name} must be a real number (int, float or numpy scalar), got {value!r} "
                         f"({type(value).__name__})")
     return float(value)
+
+
+def check_real_array(name: str, value) -> np.ndarray:
+    """Return ``value``, a real number or an array-like of them, as a float array, or raise
+    TypeError naming ``name`` unless its entries are integers or floats (strings, bools, None
+    and other objects are refused, not converted)."""
+    array = np.asarray(value)
+    if array.dtype.kind not in "iuf":
+        raise TypeError(f"{name} must be a real number or an array of them, got {array.dtype} {value!r:.60}")
+    return np.asarray(array, dtype=float)
 
 
 def check_finite(name: str, value) -> float:

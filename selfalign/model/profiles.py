@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import NonPhysicalProfile, check_finite, check_positive
+from .errors import NonPhysicalProfile, check_finite, check_positive, check_real_array
 from .registry import formula
 
 #: The cases of Table 1 (the steady-state classification of a three-phase profile, Sect. 5).
@@ -156,8 +156,8 @@ class PiecewiseConstantProfile(Profile):
     def __init__(self, breaks, accels, y_start: float, yd_start: float):
         y_start = check_finite("y_start", y_start)
         yd_start = check_finite("yd_start", yd_start)
-        breaks = np.asarray(breaks, dtype=float)
-        accels = np.asarray(accels, dtype=float)
+        breaks = check_real_array("breaks", breaks)
+        accels = check_real_array("accels", accels)
         if breaks.ndim != 1 or breaks.size < 2 or accels.shape != (breaks.size - 1,):
             raise ValueError("breaks must be 1-D with at least two entries and one entry more than accels")
         if not np.all(np.isfinite(breaks)) or breaks[0] != 0.0 or np.any(np.diff(breaks) < 0) \
@@ -826,8 +826,8 @@ class FourierProfile(Profile):
 
     def __init__(self, dt: float, cos_coeffs, sin_coeffs):
         self.dt = check_positive("dt", dt)
-        self.cos_coeffs = np.asarray(cos_coeffs, dtype=float)
-        self.sin_coeffs = np.asarray(sin_coeffs, dtype=float)
+        self.cos_coeffs = check_real_array("cos_coeffs", cos_coeffs)
+        self.sin_coeffs = check_real_array("sin_coeffs", sin_coeffs)
         if self.cos_coeffs.shape != self.sin_coeffs.shape or self.cos_coeffs.ndim != 1:
             raise ValueError("cos_coeffs and sin_coeffs must be 1-D arrays of equal length")
         if not (np.all(np.isfinite(self.cos_coeffs)) and np.all(np.isfinite(self.sin_coeffs))):

@@ -209,12 +209,13 @@ class Scene:
     description: str = ""
 
     def __post_init__(self):
-        if not isinstance(self.profile, Profile):
-            raise SceneError(f"profile must be a selfalign profile, got {type(self.profile).__name__}")
-        if not isinstance(self.surface, (Uniform, StopZone)):
-            raise SceneError(f"surface must be Uniform() or StopZone(...), got {type(self.surface).__name__}")
-        if not isinstance(self.friction, FrictionLaw):
-            raise SceneError(f"friction must be a FrictionLaw, got {type(self.friction).__name__}")
+        for key, kind, allowed in (("profile", Profile, "a selfalign profile"),
+                                   ("surface", (Uniform, StopZone), "Uniform() or StopZone(...)"),
+                                   ("friction", FrictionLaw, "a FrictionLaw"), ("record", Record, "a Record"),
+                                   ("si", (SIScale, type(None)), "an SIScale or None"),
+                                   ("solver_options", dict, "a mapping of solver options")):
+            if not isinstance(getattr(self, key), kind):
+                raise TypeError(f"{key} must be {allowed}, got {type(getattr(self, key)).__name__}")
         for key in ("x0", "v0", "phase"):
             try:
                 object.__setattr__(self, key, check_finite(key, getattr(self, key)))
@@ -236,8 +237,6 @@ class Scene:
         object.__setattr__(self, "until", until)
         if self.method not in METHODS:
             raise SceneError(f"solver.method must be one of {list(METHODS)}, got {self.method!r}")
-        if not isinstance(self.solver_options, dict):
-            raise SceneError(f"solver.options must be a mapping, got {type(self.solver_options).__name__}")
         if self.record.dense:
             size = self.horizon_periods * self.record.samples_per_period * (1 + len(self.record.series)) * 8
             if size > RECORD_MEMORY_LIMIT:

@@ -12,12 +12,11 @@ the stepper provides (arcs, steps or solve_ivp's dense output).
 from __future__ import annotations
 
 import functools
-import numbers
 import time
 
 import numpy as np
 
-from ..model.errors import check_integer
+from ..model.errors import check_integer, check_real_array
 from ..model.friction import FrictionLaw, StopZone, check_zone_position
 from ..model.scene import Scene
 from . import moreau
@@ -397,15 +396,14 @@ def simulate_batch(profiles, x0, v0=0.0, phase=0.0, *, profile_index=None, surfa
     options = resolve(method, options)
     friction = FrictionLaw() if friction is None else friction
     if not isinstance(friction, FrictionLaw):
-        raise ValueError(f"friction must be a FrictionLaw, got {type(friction).__name__}")
+        raise TypeError(f"friction must be a FrictionLaw, got {type(friction).__name__}")
     refused = friction_refused(method, friction, options)
     if refused:
         raise ValueError(refused)
     if method == "ivp":
         raise ValueError("simulate_batch runs the compiled methods 'exact' and 'moreau'; use simulate for 'ivp'")
     until_code, total, horizon_name = _horizon(until, periods, max_periods)
-    if isinstance(max_cycle, bool) or not isinstance(max_cycle, numbers.Integral) or not 1 <= max_cycle <= 1024:
-        raise ValueError(f"max_cycle must be an integer in [1, 1024], got {max_cycle!r}")
+    max_cycle = check_integer("max_cycle", max_cycle, 1, 1024)
     table = profile_table(profiles, method, phase, options)
     shapes = [np.shape(a) for a in (x0, v0, phase, profile_index, x_mu, w, c_mu) if a is not None]
     try:
@@ -462,7 +460,7 @@ def simulate_batch(profiles, x0, v0=0.0, phase=0.0, *, profile_index=None, surfa
         raise ValueError("method 'exact' cannot simulate a Fourier profile on a stop zone; use 'moreau'")
     boundaries = np.zeros((size, 0))
     if x_mu is not None or levels is not None:
-        lev = np.zeros((size, 0)) if levels is None else np.asarray(levels, dtype=float)
+        lev = np.zeros((size, 0)) if levels is None else check_real_array("levels", levels)
         lev = np.array(np.broadcast_to(lev if lev.ndim == 2 else lev[None, :], (size, lev.shape[-1])))
         if np.any(np.isnan(lev)):
             raise ValueError("levels must not be NaN (+inf: never reached)")

@@ -213,7 +213,7 @@ def design(spec: DesignSpec, *, progress: str = "auto") -> Design:
     x_d = 1044 um +- 102 um, arrival within 3.18 s
     """
     if not isinstance(spec, DesignSpec):
-        raise ValueError(f"design needs a DesignSpec (selfalign.io.design_spec.load_design_spec reads one), "
+        raise TypeError(f"design needs a DesignSpec (selfalign.io.design_spec.load_design_spec reads one), "
                          f"got {type(spec).__name__}")
     start = time.perf_counter()
     cand = search_grid(spec)
