@@ -143,13 +143,13 @@ def _run_chunk(args):
     return {
         "dx_period": dx, "x_stick_min_rel": xs_rel, "s": s,
         "status": per(res.status), "reason": per(res.reason), "overshoot": per(res.x_end) - dx[:, None],
-        "periods": per(res.t_end),
+        "periods": per(res.t_end_periods),
         "zone_sticks": per(res.zone_sticks), "contraction": per(res.contraction), "cycle": per(res.cycle),
         "entry_time": t_cross[:, :, 0], "entry_tau": per(res.crossings["tau"][:, 0]),
         "entry_v": per(res.crossings["v"][:, 0]),
         "first_stick_time": per(res.first_stick_time), "first_stick_x": per(res.first_stick_x) - dx[:, None],
         "level_time": t_cross[:, :, 2:], "level_sticks": per(res.crossings["sticks"][:, 2:]),
-        "events": per(res.events),
+        "events": per(res.event_count),
     }
 
 

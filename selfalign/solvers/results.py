@@ -8,6 +8,7 @@ when they were asked for.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -293,13 +294,27 @@ class BatchResult:
         return self.records["tau_end"]
 
     @property
-    def t_end(self) -> np.ndarray:
-        """End times in periods, n_end + tau_end / dt."""
+    def t_end_periods(self) -> np.ndarray:
+        """End times in periods, period_end + tau_end / dt (the end time t_end of a result file or
+        of the CLI, period_end * dt + tau_end, divided by the period dt)."""
         return self.records["n_end"] + self.records["tau_end"] / self.dt
 
     @property
-    def events(self) -> np.ndarray:
+    def event_count(self) -> np.ndarray:
+        """Number of events of each member (a count; ``Trajectory.events`` is the event log)."""
         return self.records["events"]
+
+    @property
+    def t_end(self) -> np.ndarray:
+        """Deprecated name of ``t_end_periods`` (it is in periods, not time)."""
+        _renamed("t_end", "t_end_periods")
+        return self.t_end_periods
+
+    @property
+    def events(self) -> np.ndarray:
+        """Deprecated name of ``event_count`` (a count, not an event log)."""
+        _renamed("events", "event_count")
+        return self.event_count
 
     @property
     def stick_events(self) -> np.ndarray:
@@ -358,6 +373,10 @@ class BatchResult:
     def message(self, i: int) -> str:
         """The message of member ``i`` (:data:`~selfalign.solvers.outcomes.MESSAGES`)."""
         return outcome_message(self.records[i], float(self.origin[i]), self.options, self.until, self.horizon)
+
+
+def _renamed(old: str, new: str) -> None:
+    warnings.warn(f"BatchResult.{old} is deprecated; use BatchResult.{new}", DeprecationWarning, stacklevel=3)
 
 
 def outcome_message(rec, origin: float, options: dict, until: str, horizon: int, mu: float | None = None,
