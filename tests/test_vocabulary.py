@@ -30,7 +30,7 @@ def text_enums_not_str_enum(source: str) -> list[str]:
 def test_status_reads_as_its_value():
     """Hypothesis: a Status is its value as text wherever it turns into a string: str(), an
     f-string, and a numpy array of statuses, whose entries then equal the members (a ``(str, Enum)``
-    gave "Status.REST" and numpy cut that to the value's length, "Stat")."""
+    gave "Status.REST" and numpy cut that to the longest value's length: "Stat" alone)."""
     assert issubclass(sa.Status, StrEnum)
     assert str(sa.Status.REST) == f"{sa.Status.REST}" == "rest"
     statuses = [sa.Status.REST, sa.Status.ACCUMULATION, sa.Status.NEVER_STOPS]
