@@ -170,7 +170,8 @@ class BatchResult:
     (period -1: never), the velocity there and the stick events at x >= x_mu before it.
     Each member ends with a :class:`~selfalign.Reason` and its :class:`~selfalign.Status`,
     the vocabulary of :class:`~selfalign.Trajectory`.
-    ``len(result)`` is the number of members B.
+    ``len(result)`` is the number of members B.  ``t_end`` and ``events`` are deprecated names
+    of ``t_end_periods`` and ``event_count``: they warn with a DeprecationWarning.
 
     Parameters
     ----------
@@ -207,9 +208,10 @@ class BatchResult:
         Completed periods at the end.
     tau_end : numpy.ndarray
         The time within the period at the end.
-    t_end : numpy.ndarray
-        End times in periods, n_end + tau_end / dt.
-    events : numpy.ndarray
+    t_end_periods : numpy.ndarray
+        End times in periods, period_end + tau_end / dt (the end time t_end of a result file
+        or of the CLI divided by the period dt).
+    event_count : numpy.ndarray
         Number of events of each run.
     stick_events : numpy.ndarray
         Number of stick events of each run.
