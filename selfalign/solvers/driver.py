@@ -114,9 +114,8 @@ def simulate(scene: Scene, method: str | None = None, **options) -> Trajectory:
         cannot simulate the scene (e.g. the exact solver with a Fourier profile on a stop
         zone or with Stribeck friction, a Moreau horizon of more than 1e10 steps, an
         ``accumulation_tol`` above 1e-6 of the zone width).
-    RuntimeError
-        ``selfalign.solvers.jit.KernelError``, if numba is missing or cannot compile the
-        kernel.
+    KernelError
+        If numba is missing or cannot compile the kernel (a RuntimeError).
 
     See Also
     --------
@@ -362,9 +361,8 @@ def simulate_batch(profiles, x0, v0=0.0, phase=0.0, *, profile_index=None, surfa
         ``c_mu`` < 1, ``|x_mu| > 2**32 w`` or an ``accumulation_tol`` above 1e-6 of w; the exact
         solver gets a Fourier profile on a stop zone; ``levels`` holds NaN; or the records
         would exceed 2 GiB.
-    RuntimeError
-        ``selfalign.solvers.jit.KernelError``, if numba is missing or cannot compile the
-        kernel.
+    KernelError
+        If numba is missing or cannot compile the kernel (a RuntimeError).
 
     See Also
     --------

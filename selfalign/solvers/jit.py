@@ -49,7 +49,23 @@ _announced = False
 
 
 class KernelError(SelfalignError, RuntimeError):
-    """The compiled event kernel cannot be imported or compiled on this machine."""
+    """The compiled event kernel cannot be imported or compiled on this machine.
+
+    The exact and Moreau solvers run compiled code (numba).  On first use the kernel is
+    imported and compiled; if numba is missing or compilation fails, every solver call raises
+    this error with a message saying why.  It is a :class:`~selfalign.SelfalignError` and a
+    RuntimeError.
+
+    See Also
+    --------
+    simulate : Compiles the kernel on its first call.
+
+    Examples
+    --------
+    >>> import selfalign as sa
+    >>> issubclass(sa.KernelError, sa.SelfalignError), issubclass(sa.KernelError, RuntimeError)
+    (True, True)
+    """
 
 
 def cache_root() -> Path:
