@@ -252,9 +252,11 @@ def classify(profile_or_params) -> int:
 
     Raises
     ------
+    TypeError
+        If the argument is none of these, or a parameter is not a real number.
     ValueError
-        If the argument is none of these, the mapping names another kind or misses a key,
-        or a parameter is not finite and > 0.
+        If the tuple does not hold 4 parameters, the mapping names another kind or misses a
+        key, or a parameter is not finite and > 0.
 
     See Also
     --------

@@ -464,10 +464,11 @@ def floquet(profile_or_scene, method: str = "analytic", **options) -> FloquetRes
     Raises
     ------
     TypeError
-        If the option ``h`` is not a real number.
+        If ``profile_or_scene`` is neither a profile nor a Scene, or the option
+        ``max_periods``, ``eps`` or ``h`` is not a number.
     ValueError
-        If the method or an option is unknown or an option value is not allowed;
-        ``profile_or_scene`` is neither a profile nor a Scene; "analytic" is asked outside
+        If the method or an option is unknown or an option value is not allowed; "analytic"
+        is asked outside
         its domain; no period-boundary state repeats within ``max_periods`` periods (e.g. an
         accumulation, Sect. 7.3, or a chaotic motion); the orbit grazes (a stick or reversal
         with x'' = 0 before it, a zone boundary crossed at x' = 0), so that the monodromy

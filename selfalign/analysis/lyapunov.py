@@ -253,11 +253,14 @@ def lyapunov_trace(profile_or_scene, v10: float, v20: float, periods: int, phase
 
     Raises
     ------
+    TypeError
+        If ``profile_or_scene`` is neither a profile nor a Scene, or ``v10``, ``v20``,
+        ``phase``, ``periods`` or ``samples_per_period`` is not a number.
     ValueError
-        If ``profile_or_scene`` is neither a profile nor a Scene or the Scene's surface is
-        not uniform; ``v10``, ``v20`` or ``phase`` is not a finite number or ``phase`` lies
-        outside [0, 1); ``periods`` is not an integer >= 1 or ``samples_per_period`` not an
-        integer >= 2; or the exact solver cannot simulate the profile.
+        If the Scene's surface is not uniform; ``v10``, ``v20`` or ``phase`` is not finite or
+        ``phase`` lies outside [0, 1); ``periods`` is not an integer >= 1 or
+        ``samples_per_period`` not an integer >= 2; or the exact solver cannot simulate the
+        profile.
     KernelError
         If numba is missing or cannot compile the kernel (a RuntimeError).
 

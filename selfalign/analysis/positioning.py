@@ -429,12 +429,12 @@ def positioning(profile: ThreePhaseProfile, *, w: float, c_mu: float, n_entries:
     Raises
     ------
     TypeError
-        If ``w``, ``c_mu``, ``n_entries``, ``offset``, ``max_periods``, ``accumulation_tol``
-        or ``ramp`` is not a real number.
+        If ``profile`` is not a ThreePhaseProfile, ``friction`` is not a FrictionLaw, or
+        ``w``, ``c_mu``, ``n_entries``, ``offset``, ``max_periods``, ``accumulation_tol`` or
+        ``ramp`` is not a real number.
     ValueError
-        If ``profile`` is not a ThreePhaseProfile; a number is outside its range above or
-        not finite; the entries would need more than 2 GiB or 1e10 entry-periods;
-        ``friction`` is not a FrictionLaw; the ramps do not fit the profile's phases; or the
+        If a number is outside its range above or not finite; the entries would need more
+        than 2 GiB or 1e10 entry-periods; the ramps do not fit the profile's phases; or the
         steady state does not move forward.
 
     See Also

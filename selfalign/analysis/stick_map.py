@@ -125,8 +125,8 @@ def stick_map(x_n, profile: ThreePhaseProfile, *, w: float, c_mu: float, x_mu: f
     Raises
     ------
     TypeError
-        If ``profile`` is not a ThreePhaseProfile, or ``w``, ``c_mu`` or ``x_mu`` is not a
-        real number.
+        If ``profile`` is not a ThreePhaseProfile, ``x_n`` does not hold real numbers, or
+        ``w``, ``c_mu`` or ``x_mu`` is not a real number.
     ValueError
         If the zone is invalid (see :class:`~selfalign.StopZone`),
         ``c_mu`` <= 1, or an ``x_n`` is not finite.

@@ -125,7 +125,8 @@ class PiecewiseConstantProfile(Profile):
     Raises
     ------
     TypeError
-        If ``y_start`` or ``yd_start`` is not a real number.
+        If ``y_start`` or ``yd_start`` is not a real number, or ``breaks`` or ``accels``
+        does not hold real numbers.
     ValueError
         If ``y_start`` or ``yd_start`` is not finite; if ``breaks`` is not 1-D with at
         least two entries and one more than ``accels``, is not finite, does not start at 0,
@@ -875,7 +876,7 @@ class FourierProfile(Profile):
     Raises
     ------
     TypeError
-        If ``dt`` is not a real number.
+        If ``dt`` is not a real number, or the coefficients do not hold real numbers.
     ValueError
         If ``dt`` is not finite and > 0, the coefficients are not 1-D arrays of equal
         length, or a coefficient is not finite.

@@ -163,13 +163,14 @@ class Scene:
     Raises
     ------
     TypeError
-        If ``x0``, ``v0``, ``phase``, ``periods`` or ``max_periods`` is not a real number.
+        If ``profile``, ``surface``, ``friction``, ``record``, ``si`` or ``solver_options``
+        has the wrong type, or ``x0``, ``v0``, ``phase``, ``periods`` or ``max_periods`` is
+        not a real number.
     SceneError
-        If ``profile``, ``surface`` or ``friction`` has the wrong type; ``x0``, ``v0`` or
-        ``phase`` is not finite or ``phase`` lies outside [0, 1); the horizon is missing,
-        gives both ``periods`` and ``until="rest"``, or its counts are not integers in
-        [1, 2**53]; ``method`` is unknown; ``solver_options`` is not a dict; or the recording
-        would need more than 2 GiB.
+        If ``x0``, ``v0`` or ``phase`` is not finite or ``phase`` lies outside [0, 1); the
+        horizon is missing, gives both ``periods`` and ``until="rest"``, or its counts are
+        not integers in [1, 2**53]; ``method`` is unknown; or the recording would need more
+        than 2 GiB.
 
     See Also
     --------

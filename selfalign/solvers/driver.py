@@ -346,14 +346,15 @@ def simulate_batch(profiles, x0, v0=0.0, phase=0.0, *, profile_index=None, surfa
     Raises
     ------
     TypeError
-        If an option that takes a number gets something else, a per-member input does not
-        hold real numbers, ``profile_index`` does not hold integers, or ``periods`` or
-        ``max_periods`` is not a number.
+        If ``profiles`` holds something other than profiles, ``friction`` is not a
+        FrictionLaw, an option that takes a number gets something else, a per-member input
+        or ``levels`` does not hold real numbers, ``profile_index`` does not hold integers,
+        or ``periods``, ``max_periods`` or ``max_cycle`` is not a number.
     ValueError
         If the method or an option is unknown or not allowed (``ivp``; Stribeck friction
-        with the exact solver; a Moreau horizon of more than 1e10 steps); ``friction`` is
-        not a FrictionLaw; ``until`` is unknown or its horizon is missing or not an integer
-        >= 1; ``max_cycle`` is outside [1, 1024]; ``profiles`` holds no profile or mixes
+        with the exact solver; a Moreau horizon of more than 1e10 steps); ``until`` is
+        unknown or its horizon is missing or not an integer >= 1; ``max_cycle`` is not an
+        integer in [1, 1024]; ``profiles`` holds no profile or mixes
         kinds; per-member inputs are not scalars or 1-D of one length, or not finite;
         ``profile_index`` lies outside the profiles; ``phase`` lies outside [0, 1) (or
         differs between Moreau members); a Uniform ``surface`` comes with ``x_mu``, ``w``

@@ -266,9 +266,11 @@ def design(spec: DesignSpec, *, progress: str = "auto") -> Design:
 
     Raises
     ------
+    TypeError
+        If ``spec`` is not a DesignSpec.
     ValueError
-        If ``spec`` is not a DesignSpec, or ``progress`` (or, with "auto", the environment
-        variable ``SELFALIGN_PROGRESS``) is not one of the modes.
+        If ``progress`` (or, with "auto", the environment variable ``SELFALIGN_PROGRESS``) is
+        not one of the modes.
     KernelError
         If numba is missing or cannot compile the kernel (a RuntimeError).
 
