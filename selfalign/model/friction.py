@@ -402,7 +402,7 @@ class FrictionLaw:
         return self.kind == "stribeck"
 
     def factor(self, v):
-        """mu(v) / mu_k: 1 (Coulomb, static/kinetic in slip) or :func:`stribeck_factor`, elementwise."""
+        """mu(v) / mu_k: 1 (Coulomb, static/kinetic in slip) or ``stribeck_factor``, elementwise."""
         v = np.asarray(v, dtype=float)
         if not self.stribeck:
             return np.ones_like(v)

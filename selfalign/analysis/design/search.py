@@ -192,7 +192,7 @@ class Design:
 
     @property
     def assumptions(self) -> tuple[str, ...]:
-        """:data:`ASSUMPTIONS`, with the spec's friction law and profile in place of the paper's."""
+        """``ASSUMPTIONS``, with the spec's friction law and profile in place of the paper's."""
         law, ramp = self.spec.friction, self.spec.ramp
         friction = ASSUMPTIONS[1] if law.kind == "coulomb" else (
             f"{self.spec.effects().split('; ')[0]}, kinetic coefficient mu on the base and c_mu mu on the strip")
