@@ -94,7 +94,7 @@ def main(n: int = 41, entries: int = 32) -> None:
             name = Reason(int(long.records.reason[e])).name
             outcome[name] += 1
             later_events[name] += int(short.records.events[e])
-            later_periods.setdefault(name, []).append(float(long.t_end[e]))
+            later_periods.setdefault(name, []).append(float(long.t_end_periods[e]))
         later.update(outcome)
         first = open_[0]
         orbit = _stick_map_orbit(a2, a3, short.x_end[first], short.v_end[first], x_mu)

@@ -113,7 +113,7 @@ def single_trajectory(periods: int = 200_000, repeat: int = 3) -> list[dict]:
             return reference.run(PROFILE.breaks, PROFILE.accels, w, c_mu, shift, 0.0, periods)
 
         result, (xi, _, ref_events) = engine(), minimal()
-        events = int(result.events[0])
+        events = int(result.event_count[0])
         seconds, ref_seconds = _best(engine, repeat), _best(minimal, repeat)
         rows.append({"case": name, "periods": periods, "events": events, "seconds": seconds,
                      "events_per_s": events / seconds, "reference_events": int(ref_events),
@@ -155,7 +155,7 @@ def batched_sweep(n: int = 64, horizons: tuple = (20, 200), repeat: int = 3) -> 
             return reference.run_batch(breaks, accels, w, c_mu, start, np.zeros(len(profiles)), periods)
 
         result, (xi, _, ref_events) = engine(), minimal()
-        events = int(result.events.sum())
+        events = int(result.event_count.sum())
         seconds, ref_seconds = _best(engine, repeat), _best(minimal, repeat)
         rows.append({"solver": f"exact batch, {name}", "trajectories": len(profiles), "periods": periods,
                      "unit": "events", "count": events, "seconds": seconds, "per_s_per_core": events / seconds,

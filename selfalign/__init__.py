@@ -12,19 +12,23 @@ from importlib import import_module
 
 #: Public name -> module that defines it.
 _EXPORTS = {
-    "NonPhysicalProfile": "model.errors", "SceneError": "model.errors",
-    "StopZone": "model.friction", "Uniform": "model.friction",
-    "FourierProfile": "model.profiles", "PiecewiseConstantProfile": "model.profiles",
-    "PolynomialProfile": "model.profiles", "ThreePhaseProfile": "model.profiles",
+    "SelfalignError": "model.errors", "NonPhysicalProfile": "model.errors", "SceneError": "model.errors",
+    "DesignSpecError": "io.design_spec", "KernelError": "solvers.jit",
+    "FrictionLaw": "model.friction", "StopZone": "model.friction", "Uniform": "model.friction",
+    "FiniteJerkProfile": "model.profiles", "FourierProfile": "model.profiles",
+    "PiecewiseConstantProfile": "model.profiles", "PolynomialProfile": "model.profiles",
+    "ThreePhaseProfile": "model.profiles",
     "Record": "model.scene", "Scene": "model.scene", "SIScale": "model.units",
     "load_scene": "io.scene_files", "scene_from_dict": "io.scene_files",
     "simulate": "solvers.driver", "simulate_batch": "solvers.driver",
     "EventKind": "solvers.outcomes", "Reason": "solvers.outcomes", "Status": "solvers.outcomes",
     "BatchResult": "solvers.results", "Trajectory": "solvers.results",
-    "classify": "analysis.classification", "floquet": "analysis.floquet", "lyapunov_trace": "analysis.lyapunov",
+    "classify": "analysis.classification", "FloquetResult": "analysis.floquet", "floquet": "analysis.floquet",
+    "LyapunovTrace": "analysis.lyapunov", "lyapunov_trace": "analysis.lyapunov",
     "SteadyState": "analysis.steady_state", "steady_state": "analysis.steady_state",
-    "stick_map": "analysis.stick_map", "positioning": "analysis.positioning",
-    "design": "analysis.design", "DesignSpec": "model.design_spec", "load_design_spec": "io.design_spec",
+    "stick_map": "analysis.stick_map", "Positioning": "analysis.positioning", "positioning": "analysis.positioning",
+    "Design": "analysis.design", "design": "analysis.design", "DesignSpec": "model.design_spec",
+    "load_design_spec": "io.design_spec",
 }
 
 __all__ = sorted(_EXPORTS) + ["__version__"]

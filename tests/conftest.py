@@ -70,8 +70,8 @@ def assert_batch_member_is(res, i: int, traj) -> None:
     """Member ``i`` of a simulate_batch result ended as the scalar trajectory ``traj`` did, bit
     for bit: status, reason, end time, event count and end state."""
     assert res.statuses()[i] is traj.status and res.reason[i] == traj.reason, i
-    assert (res.period_end[i], res.tau_end[i], res.events[i]) == (traj.period_end, traj.tau_end,
-                                                                 traj.stats["events"]), i
+    assert (res.period_end[i], res.tau_end[i], res.event_count[i]) == (traj.period_end, traj.tau_end,
+                                                                       traj.stats["events"]), i
     assert (res.x_end[i], res.v_end[i]) == (traj.x_end, traj.v_end), i
 
 

@@ -243,3 +243,136 @@ def test_scene_file_option_of_the_wrong_type_names_the_file(tmp_path):
                     "horizon: {periods: 1}\nsolver: {method: exact, options: {max_events: '5'}}\n")
     with pytest.raises(sa.SceneError, match=f"^{path}: solver: option max_events must be an integer, got '5'"):
         sa.load_scene(path)
+
+
+# ------------------------------------------------------------------------------------------
+# Every exported callable: TypeError for a string where a number (or a profile, a spec) is
+# expected, ValueError for a negative or NaN number; a scene document's problems are SceneErrors
+# ------------------------------------------------------------------------------------------
+
+NAN = float("nan")
+ZONE_SCENE = sa.Scene(FIG18, ZONE, x0=0.0, until="rest", max_periods=50)
+SCENE_DOC = {"profile": {"kind": "three_phase", "dt": 1.05, "dy": 0.084, "y2": 2.2, "y3": 0.9},
+             "horizon": {"periods": 1}}
+PIECES = {"breaks": [0.0, 0.5, 1.0], "accels": [1.0, -1.0], "y_start": 0.0, "yd_start": 0.0}
+
+
+def design_spec(**changes):
+    import dataclasses
+
+    from selfalign.io.design_spec import load_design_spec
+
+    return dataclasses.replace(load_design_spec("workflow/designs/cam_drive.yaml"), **changes)
+
+
+def scene_doc(**profile):
+    return {**SCENE_DOC, "profile": {**SCENE_DOC["profile"], **profile}}
+
+
+#: (callable, a call with a string where a number or an object is expected, a call with a negative
+#: or NaN number).
+CALLS = {
+    "simulate": (lambda: sa.simulate(sa.Scene(FIG18, periods=1), max_events="5"),
+                 lambda: sa.simulate(ZONE_SCENE, accumulation_tol=-1e-12)),
+    "simulate/scene": (lambda: sa.simulate("scene.yaml"), lambda: sa.simulate(ZONE_SCENE, accumulation_tol=NAN)),
+    "simulate_batch": (lambda: sa.simulate_batch(FIG18, 0.0, surface=ZONE, levels=["0.6"]),
+                       lambda: sa.simulate_batch(FIG18, 0.0, surface=ZONE, levels=[NAN])),
+    "simulate_batch/max_cycle": (lambda: sa.simulate_batch(FIG18, 0.0, max_cycle="8"),
+                                 lambda: sa.simulate_batch(FIG18, 0.0, max_cycle=-8)),
+    "simulate_batch/profiles": (lambda: sa.simulate_batch("FIG18", 0.0),
+                                lambda: sa.simulate_batch(FIG18, NAN)),
+    "positioning": (lambda: sa.positioning(FIG18, w="0.05", c_mu=2.5),
+                    lambda: sa.positioning(FIG18, w=-0.05, c_mu=2.5)),
+    "positioning/profile": (lambda: sa.positioning("FIG18", w=0.05, c_mu=2.5),
+                            lambda: sa.positioning(FIG18, w=0.05, c_mu=NAN)),
+    "positioning/friction": (lambda: sa.positioning(FIG18, w=0.05, c_mu=2.5, friction="coulomb"),
+                             lambda: sa.positioning(FIG18, w=0.05, c_mu=2.5, ramp=-0.01)),
+    "stick_map": (lambda: sa.stick_map("0.51", FIG18, w=0.05, c_mu=2.5, x_mu=0.5),
+                  lambda: sa.stick_map(NAN, FIG18, w=0.05, c_mu=2.5, x_mu=0.5)),
+    "stick_map/zone": (lambda: sa.stick_map(0.51, FIG18, w="0.05", c_mu=2.5, x_mu=0.5),
+                       lambda: sa.stick_map(0.51, FIG18, w=-0.05, c_mu=2.5, x_mu=0.5)),
+    "steady_state": (lambda: sa.steady_state((1.05, "0.084", 2.2, 0.9)),
+                     lambda: sa.steady_state((1.05, -0.084, 2.2, 0.9))),
+    "steady_state/profile": (lambda: sa.steady_state("FIG18"), lambda: sa.steady_state((1.05, NAN, 2.2, 0.9))),
+    "classify": (lambda: sa.classify({"dt": 1.05, "dy": 0.084, "y2": "2.2", "y3": 0.9}),
+                 lambda: sa.classify({"dt": 1.05, "dy": 0.084, "y2": NAN, "y3": 0.9})),
+    "classify/profile": (lambda: sa.classify("FIG18"), lambda: sa.classify((1.05, 0.084, -2.2, 0.9))),
+    "floquet": (lambda: sa.floquet(FIG18, "saltation", max_periods="100"),
+                lambda: sa.floquet(FIG18, "saltation", max_periods=-100)),
+    "floquet/eps": (lambda: sa.floquet(FIG18, "numeric", eps="1e-6"), lambda: sa.floquet(FIG18, "numeric", eps=NAN)),
+    "floquet/profile": (lambda: sa.floquet("FIG18"), lambda: sa.floquet(sa.Scene(FIG18, x0=NAN, periods=1))),
+    "design": (lambda: sa.design("workflow/designs/cam_drive.yaml"), lambda: sa.design(design_spec(mu=-0.3))),
+    "design/spec": (lambda: sa.design(design_spec(mu="0.3")), lambda: sa.design(design_spec(mu=NAN))),
+    "lyapunov_trace": (lambda: sa.lyapunov_trace(FIG18, "0.1", 0.2, 3), lambda: sa.lyapunov_trace(FIG18, NAN, 0.2, 3)),
+    "lyapunov_trace/periods": (lambda: sa.lyapunov_trace(FIG18, 0.1, 0.2, "3"),
+                               lambda: sa.lyapunov_trace(FIG18, 0.1, 0.2, -3)),
+    "lyapunov_trace/profile": (lambda: sa.lyapunov_trace("FIG18", 0.1, 0.2, 3),
+                               lambda: sa.lyapunov_trace(FIG18, 0.1, 0.2, 3, phase=NAN)),
+    "load_scene": (lambda: sa.load_scene(5), lambda: sa.load_scene("no/such/scene.yaml")),
+    "ThreePhaseProfile": (lambda: sa.ThreePhaseProfile("1.05", 0.084, 2.2, 0.9),
+                          lambda: sa.ThreePhaseProfile(1.05, -0.084, 2.2, 0.9)),
+    "FiniteJerkProfile": (lambda: sa.FiniteJerkProfile(1.05, 0.084, 2.2, 0.9, ramp="0.01"),
+                          lambda: sa.FiniteJerkProfile(1.05, 0.084, 2.2, 0.9, jerk=NAN)),
+    "PolynomialProfile": (lambda: sa.PolynomialProfile(1.0, "0.1"), lambda: sa.PolynomialProfile(-1.0, 0.1)),
+    "FourierProfile": (lambda: sa.FourierProfile(1.0, ["0.1"], [0.0]), lambda: sa.FourierProfile(1.0, [NAN], [0.0])),
+    "FourierProfile/dt": (lambda: sa.FourierProfile("1.0", [0.1], [0.0]),
+                          lambda: sa.FourierProfile(-1.0, [0.1], [0.0])),
+    "PiecewiseConstantProfile": (lambda: sa.PiecewiseConstantProfile(**{**PIECES, "breaks": ["0", "0.5", "1"]}),
+                                 lambda: sa.PiecewiseConstantProfile(**{**PIECES, "breaks": [0.0, -0.5, 1.0]})),
+    "PiecewiseConstantProfile/accels": (lambda: sa.PiecewiseConstantProfile(**{**PIECES, "accels": ["1", -1.0]}),
+                                        lambda: sa.PiecewiseConstantProfile(**{**PIECES, "accels": [NAN, -1.0]})),
+    "StopZone": (lambda: sa.StopZone("0.5", 0.05, 2.5), lambda: sa.StopZone(0.5, -0.05, 2.5)),
+    "StopZone/c_mu": (lambda: sa.StopZone(0.5, 0.05, "2.5"), lambda: sa.StopZone(0.5, 0.05, NAN)),
+    "Scene": (lambda: sa.Scene(FIG18, x0="0", periods=1), lambda: sa.Scene(FIG18, x0=NAN, periods=1)),
+    "Scene/horizon": (lambda: sa.Scene(FIG18, periods="1"), lambda: sa.Scene(FIG18, periods=-1)),
+    "Scene/profile": (lambda: sa.Scene("FIG18", periods=1), lambda: sa.Scene(FIG18, phase=-0.5, periods=1)),
+    "Scene/surface": (lambda: sa.Scene(FIG18, "zone", periods=1), lambda: sa.Scene(FIG18, v0=NAN, periods=1)),
+    "Scene/record": (lambda: sa.Scene(FIG18, periods=1, record="x"),
+                     lambda: sa.Scene(FIG18, periods=1, record=sa.Record(("x",), samples_per_period=-1))),
+    "Scene/si": (lambda: sa.Scene(FIG18, periods=1, si="si"),
+                 lambda: sa.Scene(FIG18, periods=1, si=sa.SIScale(0.3, 9.81, -1e-3))),
+    "FrictionLaw": (lambda: sa.FrictionLaw("static_kinetic", "2"), lambda: sa.FrictionLaw("static_kinetic", NAN)),
+}
+
+
+@pytest.mark.parametrize("name", CALLS)
+def test_a_string_for_a_number_is_a_type_error(name):
+    """Hypothesis: every exported function and class raises TypeError, naming the argument, for a
+    string where it expects a number, an array of numbers, a profile or a design spec, before any
+    work; none converts the string or fails later with another error."""
+    with pytest.raises(TypeError) as info:
+        CALLS[name][0]()
+    one_line(info)
+
+
+@pytest.mark.parametrize("name", CALLS)
+def test_a_negative_or_nan_number_is_a_value_error(name):
+    """Hypothesis: every exported function and class raises ValueError (or a subclass: SceneError
+    for a Scene or scene file) for a negative or NaN number where it needs a positive or finite one,
+    and never TypeError: the type was right."""
+    with pytest.raises(ValueError) as info:
+        CALLS[name][1]()
+    assert not isinstance(info.value, TypeError)
+    one_line(info)
+
+
+@pytest.mark.parametrize("loader", ["scene_from_dict", "load_scene"])
+@pytest.mark.parametrize("value, problem", [("1.05", "expected number, got str '1.05'"),
+                                            (-1.05, "must be > 0, got -1.05"), (NAN, "must be a finite number")])
+def test_a_scene_document_names_the_key_for_any_problem(tmp_path, loader, value, problem):
+    """Hypothesis: a scene document (a dict or a YAML file) is data, so a string, a negative or a NaN
+    where it needs a number is one SceneError (a ValueError) naming the key, like every other
+    problem of a document, whatever its kind; the CLI's ``check`` and the workflow catch that one
+    class."""
+    doc = scene_doc(dt=value)
+    if loader == "load_scene":
+        import yaml
+
+        path = tmp_path / "bad.yaml"
+        path.write_text(yaml.safe_dump(doc))
+        doc, source = path, str(path)
+    else:
+        source = "<scene>"
+    with pytest.raises(sa.SceneError) as info:
+        getattr(sa, loader)(doc)
+    assert one_line(info).startswith(f"{source}: profile.dt: {problem}"), info.value

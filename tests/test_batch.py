@@ -234,3 +234,22 @@ def test_moreau_batch_equals_scalar_moreau():
         traj = sa.simulate(Scene(p, StopZone(0.0, W, C_MU), x0=x, until="rest", max_periods=200), "moreau",
                            h=p.dt / 500)
         assert (res.x_end[i], res.v_end[i], res.statuses()[i]) == (traj.x_end, traj.v_end, traj.status)
+
+
+def test_end_time_in_periods_and_event_count():
+    """Hypothesis: ``t_end_periods`` is a member's end time t_end = period_end dt + tau_end (the time
+    of result files and the CLI) in periods, and ``event_count`` its number of events, both equal
+    to the scalar run's; the former names ``t_end`` and ``events`` still read the same arrays but
+    warn with a DeprecationWarning naming the new one."""
+    profile = ThreePhaseProfile(1.05, 0.084, 2.2, 0.9)
+    zone = StopZone(0.5, 0.05, 2.5)
+    res = simulate_batch(profile, [-0.03, 0.0], 0.0, 0.3, surface=zone, max_periods=1000)
+    for i, x0 in enumerate((-0.03, 0.0)):
+        traj = simulate(Scene(profile, zone, x0=x0, phase=0.3, until="rest", max_periods=1000))
+        t_end = traj.period_end * profile.dt + traj.tau_end
+        assert res.t_end_periods[i] * profile.dt == pytest.approx(t_end, rel=1e-14)
+        assert res.event_count[i] == traj.stats["events"] > 0
+    for old, new in (("t_end", "t_end_periods"), ("events", "event_count")):
+        with pytest.warns(DeprecationWarning, match=f"^BatchResult.{old} is deprecated; use BatchResult.{new}$"):
+            value = getattr(res, old)
+        np.testing.assert_array_equal(value, getattr(res, new))

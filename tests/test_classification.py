@@ -111,13 +111,20 @@ def test_classify_accepts_profile_mapping_and_tuple():
     ({"kind": "polynomial", "dt": 1.0, "dy": 0.1}, "three-phase"),
     ({"dt": 1.0, "dy": 0.1, "y2": 2.0}, "y3"),
     ((1.0, 0.1, 2.0), "tuple"),
-    ("fast", "tuple"),
     ((1.0, 0.1, 0.0, 2.0), "y2 must be finite and > 0"),
     ((1.0, np.inf, 2.0, 2.0), "dy must be finite and > 0"),
 ])
 def test_classify_rejects_bad_input(obj, match):
     """Bad input is a one-line ValueError naming the quantity and what is allowed."""
     with pytest.raises(ValueError, match=match):
+        classify(obj)
+
+
+@pytest.mark.parametrize("obj, match", [("fast", "tuple"), ((1.0, "0.1", 2.0, 2.0), "dy must be a real number")])
+def test_classify_rejects_input_of_the_wrong_type(obj, match):
+    """Hypothesis: a string instead of the parameters, or instead of one of them, is a TypeError
+    naming what is allowed (the string is not read as a number)."""
+    with pytest.raises(TypeError, match=match):
         classify(obj)
 
 

@@ -230,20 +230,22 @@ def test_one_period_map_is_a_fixed_point(profiles):
     assert again.v_end == m.v0 and m.source.startswith("simulated")
 
 
-@pytest.mark.parametrize("call, message", [
-    (lambda p: floquet(p, "exact"), "unknown method"),
-    (lambda p: floquet(p, "saltation", eps=1e-3), "unknown option"),
-    (lambda p: floquet(p, "numeric", solver="ivp"), "option solver"),
-    (lambda p: floquet(p, "numeric", h=1e-3), "applies to solver='moreau' only"),
-    (lambda p: floquet(p, "numeric", eps=0.0), "option eps"),
-    (lambda p: floquet(p, "saltation", max_periods=0), "option max_periods"),
-    (lambda p: floquet(Scene(p, StopZone(0.5, 0.05, 3.0), periods=1), "analytic"), "needs a ThreePhaseProfile"),
-    (lambda p: floquet(PolynomialProfile(1.0, 0.1), "analytic"), "needs a ThreePhaseProfile"),
-    (lambda p: floquet((1.0, 0.2, 5.0, 3.0), "analytic"), "profile or Scene"),
+@pytest.mark.parametrize("call, error, message", [
+    (lambda p: floquet(p, "exact"), ValueError, "unknown method"),
+    (lambda p: floquet(p, "saltation", eps=1e-3), ValueError, "unknown option"),
+    (lambda p: floquet(p, "numeric", solver="ivp"), ValueError, "option solver"),
+    (lambda p: floquet(p, "numeric", h=1e-3), ValueError, "applies to solver='moreau' only"),
+    (lambda p: floquet(p, "numeric", eps=0.0), ValueError, "option eps"),
+    (lambda p: floquet(p, "saltation", max_periods=0), ValueError, "option max_periods"),
+    (lambda p: floquet(Scene(p, StopZone(0.5, 0.05, 3.0), periods=1), "analytic"), ValueError,
+     "needs a ThreePhaseProfile"),
+    (lambda p: floquet(PolynomialProfile(1.0, 0.1), "analytic"), ValueError, "needs a ThreePhaseProfile"),
+    (lambda p: floquet((1.0, 0.2, 5.0, 3.0), "analytic"), TypeError, "profile or Scene"),
 ])
-def test_bad_input_is_rejected(call, message):
-    """Bad input raises a one-line ValueError naming the quantity."""
-    with pytest.raises(ValueError, match=re.escape(message)):
+def test_bad_input_is_rejected(call, error, message):
+    """Bad input raises a one-line ValueError naming the quantity (TypeError for a tuple where a
+    profile or Scene is expected)."""
+    with pytest.raises(error, match=re.escape(message)):
         call(ThreePhaseProfile(1.0, 0.2, 5.0, 3.0))
 
 

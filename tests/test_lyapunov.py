@@ -154,15 +154,16 @@ def test_convergence_result_and_recording(repo, tmp_path):
     np.testing.assert_array_equal(rec["lyapunov/V"][1], d["V"])
 
 
-@pytest.mark.parametrize("call, message", [
-    (lambda: scene_trace(Scene(CASES[1], StopZone(0.5, 0.05, 2.5), periods=2), 0.1), "uniform surface"),
-    (lambda: scene_trace(Scene(CASES[1], until="rest"), 0.1), "horizon.periods"),
-    (lambda: lyapunov_trace(CASES[1], 0.0, float("nan"), 2), "v20 must be a finite number"),
-    (lambda: lyapunov_trace(CASES[1], 0.0, 1.0, 0), "periods must be an integer >= 1"),
-    (lambda: lyapunov_trace(CASES[1], 0.0, 1.0, 2, phase=1.0), "phase must lie in [0, 1)"),
-    (lambda: lyapunov_trace("profile", 0.0, 1.0, 2), "profile or Scene"),
+@pytest.mark.parametrize("call, error, message", [
+    (lambda: scene_trace(Scene(CASES[1], StopZone(0.5, 0.05, 2.5), periods=2), 0.1), ValueError, "uniform surface"),
+    (lambda: scene_trace(Scene(CASES[1], until="rest"), 0.1), ValueError, "horizon.periods"),
+    (lambda: lyapunov_trace(CASES[1], 0.0, float("nan"), 2), ValueError, "v20 must be a finite number"),
+    (lambda: lyapunov_trace(CASES[1], 0.0, 1.0, 0), ValueError, "periods must be an integer >= 1"),
+    (lambda: lyapunov_trace(CASES[1], 0.0, 1.0, 2, phase=1.0), ValueError, "phase must lie in [0, 1)"),
+    (lambda: lyapunov_trace("profile", 0.0, 1.0, 2), TypeError, "profile or Scene"),
 ])
-def test_bad_input_is_rejected(call, message):
-    """Bad input raises a one-line ValueError naming the quantity."""
-    with pytest.raises(ValueError, match=message.replace("[", r"\[").replace("(", r"\(").replace(")", r"\)")):
+def test_bad_input_is_rejected(call, error, message):
+    """Bad input raises a one-line ValueError naming the quantity (TypeError for a string where a
+    profile or Scene is expected)."""
+    with pytest.raises(error, match=message.replace("[", r"\[").replace("(", r"\(").replace(")", r"\)")):
         call()

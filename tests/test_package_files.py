@@ -1,4 +1,4 @@
-"""The files a scientific package has: licence, citation, changelog and the typing marker, each
+"""The files a scientific package has: licence, citation, changelog and the typing marker and stub, each
 consistent with pyproject.toml."""
 
 import re
@@ -46,7 +46,9 @@ def test_changelog_has_the_current_version(repo):
 
 
 def test_package_is_marked_typed(repo):
-    """py.typed ships with the package (PEP 561): it is package data and present."""
+    """py.typed and the stub of the top-level names, __init__.pyi, ship with the package (PEP 561):
+    both are package data and present."""
     config = tomllib.loads((repo / "pyproject.toml").read_text())
-    assert "py.typed" in config["tool"]["setuptools"]["package-data"]["selfalign"]
-    assert resources.files("selfalign").joinpath("py.typed").is_file()
+    for name in ("py.typed", "__init__.pyi"):
+        assert name in config["tool"]["setuptools"]["package-data"]["selfalign"], name
+        assert resources.files("selfalign").joinpath(name).is_file(), name

@@ -19,7 +19,9 @@ HEAVY = ("rerun", "matplotlib", "h5py", "scipy", "snakemake", "yaml", "jsonschem
 
 
 @pytest.mark.parametrize("statement", ["import selfalign",
-                                       "from selfalign import Scene, StopZone, ThreePhaseProfile, steady_state"])
+                                       "from selfalign import Scene, StopZone, ThreePhaseProfile, steady_state",
+                                       "from selfalign import SelfalignError, DesignSpecError, KernelError, "
+                                       "FiniteJerkProfile, FrictionLaw"])
 def test_import_selfalign_loads_no_heavy_module(statement):
     """`import selfalign` loads nothing but the package (its names load their module on first
     use), and the model and closed forms load numpy only: the compiled kernel (numba,

@@ -32,6 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..model.errors import check_real
 from ..model.profiles import CASE_LABELS, ThreePhaseProfile, three_phase_feasibility, three_phase_times
 
 _OPS = {"<=": operator.le, "<": operator.lt, ">": operator.gt, ">=": operator.ge}
@@ -209,11 +210,17 @@ def profile_parameters(profile_or_params) -> tuple[float, float, float, float]:
         missing = [key for key in ("dt", "dy", "y2", "y3") if key not in obj]
         if missing:
             raise ValueError(f"three-phase parameters miss key(s) {missing}; need dt, dy, y2, y3")
-        return obj["dt"], obj["dy"], obj["y2"], obj["y3"]
-    if isinstance(obj, (tuple, list)) and len(obj) == 4:
-        return tuple(obj)
-    raise ValueError("expected a ThreePhaseProfile, a mapping with dt, dy, y2, y3, "
-                     f"or a tuple (dt, dy, y2, y3); got {type(obj).__name__}")
+        values = obj["dt"], obj["dy"], obj["y2"], obj["y3"]
+    elif isinstance(obj, (tuple, list)):
+        if len(obj) != 4:
+            raise ValueError(f"expected a tuple (dt, dy, y2, y3) of 4 numbers, got {len(obj)}")
+        values = tuple(obj)
+    else:
+        raise TypeError("expected a ThreePhaseProfile, a mapping with dt, dy, y2, y3, "
+                        f"or a tuple (dt, dy, y2, y3); got {type(obj).__name__}")
+    for name, value in zip(("dt", "dy", "y2", "y3"), values):
+        check_real(name, value)
+    return values
 
 
 def classify(profile_or_params) -> int:
@@ -245,9 +252,11 @@ def classify(profile_or_params) -> int:
 
     Raises
     ------
+    TypeError
+        If the argument is none of these, or a parameter is not a real number.
     ValueError
-        If the argument is none of these, the mapping names another kind or misses a key,
-        or a parameter is not finite and > 0.
+        If the tuple does not hold 4 parameters, the mapping names another kind or misses a
+        key, or a parameter is not finite and > 0.
 
     See Also
     --------

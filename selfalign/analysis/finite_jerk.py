@@ -157,8 +157,7 @@ def stopping(profile, *, w: float, c_mu: float, n_entries: int = 16, steps_per_p
         runs = [simulate(Scene(profile, surface=zone, x0=float(x), v0=v0, until="rest", max_periods=max_periods,
                                friction=friction), method="ivp") for x in x0]
         codes, x_end = np.array([STATUS_CODES[run.status] for run in runs]), np.array([run.x_end for run in runs])
-    # Codes, not an array of Status: numpy stores a str enum as str(member) cut to len(value), so such
-    # an array compares unequal to its own members once the statuses are mixed.
+    # Status codes, the batch result's own form (STATUS_CODES), for both methods.
     accumulate, rest = codes == STATUS_CODES[Status.ACCUMULATION], codes == STATUS_CODES[Status.REST]
     stops = accumulate | rest
     ends = x_end[stops]

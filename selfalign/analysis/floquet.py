@@ -50,6 +50,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..model import arcs as _arcs
+from ..model.errors import check_real
 from ..model.friction import StopZone, Uniform
 from ..model.profiles import Profile, ThreePhaseProfile
 from ..model.scene import Record, Scene
@@ -91,10 +92,57 @@ class PeriodicMotion:
 
 @dataclass(frozen=True)
 class FloquetResult:
-    """Monodromy matrix (2x2, of (x, x') over ``motion.periods`` periods from the period
-    start phase * dt) and its eigenvalues ``multipliers``, sorted by decreasing modulus
-    (real dtype when both are real), with unit ``eigenvectors`` as columns in the
-    same order.  ``info``: method details (events used, eps, h, ...)."""
+    """Floquet multipliers and monodromy matrix of a periodic motion, the result of floquet.
+
+    The monodromy matrix is the 2x2 derivative of the state (x, x') after ``motion.periods``
+    periods with respect to the state at the period start phase * dt.  Its eigenvalues, the
+    Floquet multipliers, are sorted by decreasing modulus (a real array when both are real),
+    with unit eigenvectors as columns in the same order.  On a uniform surface one multiplier
+    is 1 (the freedom in position, Sect. 6.1).
+
+    Parameters
+    ----------
+    method : str
+        The method that computed it: "analytic", "saltation" or "numeric".
+    monodromy, multipliers, eigenvectors : numpy.ndarray
+        The fields of the same names (Attributes).
+    motion : ``PeriodicMotion``
+        The periodic motion (Attributes).
+    info : dict
+        Method details (Attributes).
+
+    Attributes
+    ----------
+    method : str
+        The method that computed it.
+    monodromy : numpy.ndarray
+        The 2x2 monodromy matrix.
+    multipliers : numpy.ndarray
+        Its two eigenvalues, by decreasing modulus.
+    eigenvectors : numpy.ndarray
+        Unit eigenvectors as columns, in the order of ``multipliers``.
+    motion : ``PeriodicMotion``
+        The periodic motion: state (x0, v0) at time phase * dt that repeats after ``periods``
+        periods (on a uniform surface up to a shift of x by ``advance``), and ``source``, how
+        it was found ("closed form" or "simulated N periods").
+    info : dict
+        Method details (events used, eps, h, ...).
+
+    See Also
+    --------
+    floquet : Computes it.
+
+    Examples
+    --------
+    Case 4 of Fig. 9 (slip-slip), whose second multiplier is c4 of eq. (33):
+
+    >>> import selfalign as sa
+    >>> result = sa.floquet(sa.ThreePhaseProfile(dt=1.0, dy=0.084, y2=1.4, y3=1.3))
+    >>> result.method, result.multipliers.round(6).tolist(), result.motion.periods
+    ('analytic', [1.0, 0.021739], 1)
+    >>> result.eigenvectors.round(6).tolist()
+    [[1.0, -0.1697], [0.0, 0.985496]]
+    """
 
     method: str
     monodromy: np.ndarray
@@ -111,7 +159,7 @@ def _system(profile_or_scene):
         return s.profile, s.surface, s.x0, s.v0, s.phase
     if isinstance(profile_or_scene, Profile):
         return profile_or_scene, Uniform(), 0.0, 0.0, 0.0
-    raise ValueError(f"floquet needs a selfalign profile or Scene, got {type(profile_or_scene).__name__}")
+    raise TypeError(f"floquet needs a selfalign profile or Scene, got {type(profile_or_scene).__name__}")
 
 
 def _check_options(method, options):
@@ -124,14 +172,15 @@ def _check_options(method, options):
     opts = {**allowed, **options}
     if "max_periods" in opts:
         mp = opts["max_periods"]
-        if isinstance(mp, bool) or not isinstance(mp, numbers.Integral) or mp < 1:
+        if isinstance(mp, bool) or not isinstance(mp, numbers.Real):
+            raise TypeError(f"option max_periods must be an integer, got {mp!r} ({type(mp).__name__})")
+        if not isinstance(mp, numbers.Integral) or mp < 1:
             raise ValueError(f"option max_periods must be an integer >= 1, got {mp!r}")
     if method == "numeric":
         if opts["solver"] not in NUMERIC_SOLVERS:
             raise ValueError(f"option solver must be one of {list(NUMERIC_SOLVERS)}, got {opts['solver']!r}")
         eps = opts["eps"]
-        if eps is not None and (isinstance(eps, bool) or not isinstance(eps, numbers.Real)
-                                or not 0.0 < eps < 1.0):
+        if eps is not None and not 0.0 < check_real("option eps", eps) < 1.0:
             raise ValueError(f"option eps (finite-difference step) must be a number in (0, 1), got {eps!r}")
         h = opts["h"]
         if opts["solver"] == "exact" and h is not None:
@@ -415,17 +464,18 @@ def floquet(profile_or_scene, method: str = "analytic", **options) -> FloquetRes
     Raises
     ------
     TypeError
-        If the option ``h`` is not a real number.
+        If ``profile_or_scene`` is neither a profile nor a Scene, or the option
+        ``max_periods``, ``eps`` or ``h`` is not a number.
     ValueError
-        If the method or an option is unknown or an option value is not allowed;
-        ``profile_or_scene`` is neither a profile nor a Scene; "analytic" is asked outside
+        If the method or an option is unknown or an option value is not allowed; "analytic"
+        is asked outside
         its domain; no period-boundary state repeats within ``max_periods`` periods (e.g. an
         accumulation, Sect. 7.3, or a chaotic motion); the orbit grazes (a stick or reversal
         with x'' = 0 before it, a zone boundary crossed at x' = 0), so that the monodromy
         matrix does not exist; or the matrix is not finite.
-    RuntimeError
-        ``selfalign.solvers.jit.KernelError``, if numba is missing or cannot compile the
-        kernel ("saltation", "numeric", or a periodic motion that is simulated).
+    KernelError
+        If numba is missing or cannot compile the kernel ("saltation", "numeric", or a
+        periodic motion that is simulated); a RuntimeError.
 
     See Also
     --------

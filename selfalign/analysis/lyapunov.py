@@ -36,6 +36,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..model import arcs as _arcs
+from ..model.errors import check_finite
 from ..model.friction import Uniform
 from ..model.profiles import Profile
 from ..model.scene import Record, Scene
@@ -44,17 +45,74 @@ from ..solvers.driver import simulate
 
 @dataclass(frozen=True)
 class LyapunovTrace:
-    """Two velocity trajectories and V of eq. (35).
+    """Two velocity trajectories and V of eq. (35), the result of lyapunov_trace.
 
-    Samples (``t``, ``v1``, ``v2``, ``V``, ``dV``): a uniform grid of
-    ``samples_per_period`` per period plus every breakpoint; ``dV`` is the
-    right derivative V'(t+) (the left one at the last sample).
-    Sub-intervals between consecutive breakpoints (``sub_start``, ``sub_end``,
-    ``sub_equal``, the selected Sign elements ``s1``, ``s2``, and ``dV_start``,
-    ``dV_end``, the one-sided derivatives V'(start+), V'(end-)); ``interval_*``
-    merge neighbouring sub-intervals with the same label.  ``period_V`` is V at
-    the period boundaries; ``converged_time`` the first time from which
-    v1 = v2 exactly for good (NaN if not within the horizon).
+    V = (v1 - v2)^2 / 2 of two runs of the same profile on a uniform surface from the
+    velocities v10 and v20 (Sect. 6.2).  The samples form a uniform grid of
+    ``samples_per_period`` per period plus every breakpoint.  Between consecutive breakpoints
+    lie the sub-intervals, each labelled by whether both runs select the same element of the
+    Sign set; the intervals merge neighbouring sub-intervals with the same label.
+
+    Parameters
+    ----------
+    t, v1, v2, V, dV : numpy.ndarray
+        The samples (Attributes).
+    sub_start, sub_end, sub_equal, s1, s2, dV_start, dV_end : numpy.ndarray
+        The sub-intervals (Attributes).
+    interval_start, interval_end, interval_equal, period_V : numpy.ndarray
+        The merged intervals and V per period (Attributes).
+    converged_time : float
+        The first time from which v1 = v2 for good (Attributes).
+
+    Attributes
+    ----------
+    t : numpy.ndarray
+        Sample times.
+    v1 : numpy.ndarray
+        Velocity x' of the first run at ``t``.
+    v2 : numpy.ndarray
+        Velocity x' of the second run at ``t``.
+    V : numpy.ndarray
+        (v1 - v2)^2 / 2 at ``t`` (eq. 35).
+    dV : numpy.ndarray
+        The right derivative V'(t+) (eq. 36; the left one at the last sample).
+    sub_start : numpy.ndarray
+        Start of each sub-interval.
+    sub_end : numpy.ndarray
+        End of each sub-interval.
+    sub_equal : numpy.ndarray
+        Whether both runs select the same Sign element on it.
+    s1 : numpy.ndarray
+        The Sign element the first run selects on it.
+    s2 : numpy.ndarray
+        The Sign element the second run selects on it.
+    dV_start : numpy.ndarray
+        V'(start+) of each sub-interval.
+    dV_end : numpy.ndarray
+        V'(end-) of each sub-interval.
+    interval_start : numpy.ndarray
+        Start of each merged interval.
+    interval_end : numpy.ndarray
+        End of each merged interval.
+    interval_equal : numpy.ndarray
+        The label of each merged interval.
+    period_V : numpy.ndarray
+        V at the period boundaries.
+    converged_time : float
+        The first time from which v1 = v2 exactly for good (NaN if not within the horizon).
+
+    See Also
+    --------
+    lyapunov_trace : Computes it.
+
+    Examples
+    --------
+    >>> import selfalign as sa
+    >>> trace = sa.lyapunov_trace(sa.ThreePhaseProfile(dt=1.05, dy=0.084, y2=2.2, y3=0.9), 0.0, 0.5, 5)
+    >>> trace.period_V.round(6).tolist()
+    [0.125, 0.0, 0.0, 0.0, 0.0, 0.0]
+    >>> round(trace.converged_time, 6)
+    0.760526
     """
 
     t: np.ndarray
@@ -140,14 +198,15 @@ def _check(profile_or_scene, v10, v20, periods, phase, samples_per_period):
     elif isinstance(profile_or_scene, Profile):
         profile = profile_or_scene
     else:
-        raise ValueError(f"lyapunov_trace needs a selfalign profile or Scene, got {type(profile_or_scene).__name__}")
+        raise TypeError(f"lyapunov_trace needs a selfalign profile or Scene, got {type(profile_or_scene).__name__}")
     for name, value in (("v10", v10), ("v20", v20), ("phase", phase)):
-        if isinstance(value, bool) or not isinstance(value, numbers.Real) or not np.isfinite(value):
-            raise ValueError(f"{name} must be a finite number, got {value!r}")
+        check_finite(name, value)
     if not 0.0 <= phase < 1.0:
         raise ValueError(f"phase must lie in [0, 1) (fraction of the period), got {phase!r}")
     for name, value, low in (("periods", periods, 1), ("samples_per_period", samples_per_period, 2)):
-        if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < low:
+        if isinstance(value, bool) or not isinstance(value, numbers.Real):
+            raise TypeError(f"{name} must be an integer, got {value!r} ({type(value).__name__})")
+        if not isinstance(value, numbers.Integral) or value < low:
             raise ValueError(f"{name} must be an integer >= {low}, got {value!r}")
     return profile
 
@@ -194,14 +253,16 @@ def lyapunov_trace(profile_or_scene, v10: float, v20: float, periods: int, phase
 
     Raises
     ------
+    TypeError
+        If ``profile_or_scene`` is neither a profile nor a Scene, or ``v10``, ``v20``,
+        ``phase``, ``periods`` or ``samples_per_period`` is not a number.
     ValueError
-        If ``profile_or_scene`` is neither a profile nor a Scene or the Scene's surface is
-        not uniform; ``v10``, ``v20`` or ``phase`` is not a finite number or ``phase`` lies
-        outside [0, 1); ``periods`` is not an integer >= 1 or ``samples_per_period`` not an
-        integer >= 2; or the exact solver cannot simulate the profile.
-    RuntimeError
-        ``selfalign.solvers.jit.KernelError``, if numba is missing or cannot compile the
-        kernel.
+        If the Scene's surface is not uniform; ``v10``, ``v20`` or ``phase`` is not finite or
+        ``phase`` lies outside [0, 1); ``periods`` is not an integer >= 1 or
+        ``samples_per_period`` not an integer >= 2; or the exact solver cannot simulate the
+        profile.
+    KernelError
+        If numba is missing or cannot compile the kernel (a RuntimeError).
 
     See Also
     --------

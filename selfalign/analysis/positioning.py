@@ -143,13 +143,13 @@ def _run_chunk(args):
     return {
         "dx_period": dx, "x_stick_min_rel": xs_rel, "s": s,
         "status": per(res.status), "reason": per(res.reason), "overshoot": per(res.x_end) - dx[:, None],
-        "periods": per(res.t_end),
+        "periods": per(res.t_end_periods),
         "zone_sticks": per(res.zone_sticks), "contraction": per(res.contraction), "cycle": per(res.cycle),
         "entry_time": t_cross[:, :, 0], "entry_tau": per(res.crossings["tau"][:, 0]),
         "entry_v": per(res.crossings["v"][:, 0]),
         "first_stick_time": per(res.first_stick_time), "first_stick_x": per(res.first_stick_x) - dx[:, None],
         "level_time": t_cross[:, :, 2:], "level_sticks": per(res.crossings["sticks"][:, 2:]),
-        "events": per(res.events),
+        "events": per(res.event_count),
     }
 
 
@@ -192,22 +192,117 @@ def _simulate_settings(dt, dy, y2, y3, w, c_mu, n_entries, offset, max_periods, 
 
 @dataclass(frozen=True)
 class Positioning:
-    """Positioning accuracy of one three-phase profile (Sect. 7.1-7.2).
+    """Positioning accuracy of one three-phase profile (Sect. 7.1-7.2), the result of positioning.
 
-    Scalars: ``vbar``, ``v0``, ``case`` of the steady state; ``dx_period`` =
-    Delta_x = ``x_mu`` (module docstring); ``x_stick_min`` (eq. 41, absolute);
-    ``overshoot_min``/``overshoot_max`` over the entries that stop; ``dx_d``
-    (eq. 39), ``x_d``; ``frac_accumulate``, ``frac_stop`` (at rest for good
-    without accumulation), ``frac_never_stop`` (periodic or walking),
-    ``frac_undecided`` (no outcome within ``max_periods``: bounded non-periodic
-    motion); ``accumulation``: "all", "some" or "none" of the entries.
-    Per entry (arrays of n_entries): ``s`` (offset), ``x0``, ``status``
-    (status codes: the index in ``list(selfalign.Status)``), ``reason``, ``x_end`` (the end
-    position, or the state where a never-stop/undecided run was stopped),
-    ``overshoot`` (NaN unless it stops), ``periods`` (end time in periods),
-    ``zone_sticks``, ``first_stick_x`` (first stick at x >= x_mu), ``contraction``,
-    ``entry_time`` (periods), ``entry_tau`` (phase of the first arrival at x_mu), ``entry_v``.
-    ``method``: the solver the entries ran with (:func:`setting_method`).
+    The profile's steady state enters a stop zone at ``n_entries`` evenly spaced phases; each
+    entry runs until it stops, accumulates or is found never to stop.  The zone starts at
+    ``x_mu`` = Delta_x, the distance the steady motion covers in one period, so that each
+    entry starts at x = -s (s the offset) and reaches the zone within a period.  Status codes
+    are the index of a status in ``list(selfalign.Status)``.
+
+    Parameters
+    ----------
+    profile : ThreePhaseProfile
+        The profile (Attributes).
+    w, c_mu : float
+        The zone (Attributes).
+    case : int
+        The case of Table 1 (Attributes).
+    vbar, v0, dx_period, x_mu, x_stick_min, overshoot_min, overshoot_max, dx_d, x_d : float
+        The fields of the same names (Attributes).
+    frac_accumulate, frac_stop, frac_never_stop, frac_undecided : float
+        The outcome fractions (Attributes).
+    accumulation : str
+        "all", "some" or "none" (Attributes).
+    s, x0, status, reason, x_end, overshoot, periods, zone_sticks : numpy.ndarray
+        Per entry (Attributes).
+    first_stick_x, contraction, entry_time, entry_tau, entry_v : numpy.ndarray
+        Per entry (Attributes).
+    method : str
+        The solver the entries ran with (Attributes).
+
+    Attributes
+    ----------
+    profile : ThreePhaseProfile
+        The profile.
+    w : float
+        The zone width.
+    c_mu : float
+        The friction ratio of the zone.
+    case : int
+        The case of Table 1 of the steady state.
+    vbar : float
+        The steady average velocity (eq. 10).
+    v0 : float
+        The steady x' at the profile's t = 0.
+    dx_period : float
+        Delta_x, the largest x over one steady period from x = 0.
+    x_mu : float
+        Start of the zone, Delta_x.
+    x_stick_min : float
+        The lowest position a stick holds in the zone (eq. 41), absolute.
+    overshoot_min : float
+        The smallest end position beyond x_mu over the entries that stop.
+    overshoot_max : float
+        The largest end position beyond x_mu over the entries that stop.
+    dx_d : float
+        The positioning error (eq. 39), half the range of the end positions.
+    x_d : float
+        The middle of the range of end positions of the entries that stop, absolute.
+    frac_accumulate : float
+        Fraction of the entries that accumulate.
+    frac_stop : float
+        Fraction at rest for good without accumulation.
+    frac_never_stop : float
+        Fraction that never stop (periodic or walking).
+    frac_undecided : float
+        Fraction without an outcome within ``max_periods`` (bounded non-periodic motion).
+    accumulation : str
+        "all", "some" or "none" of the entries accumulate.
+    s : numpy.ndarray
+        The offset of each entry.
+    x0 : numpy.ndarray
+        The start position of each entry, -s.
+    status : numpy.ndarray
+        Status codes (int8).
+    reason : numpy.ndarray
+        :class:`~selfalign.Reason` codes (int8).
+    x_end : numpy.ndarray
+        The end position, or the state where a never-stopping or undecided run was stopped.
+    overshoot : numpy.ndarray
+        x_end - x_mu (NaN unless the entry stops).
+    periods : numpy.ndarray
+        The end time of each entry, in periods.
+    zone_sticks : numpy.ndarray
+        Stick events at x >= x_mu.
+    first_stick_x : numpy.ndarray
+        Position of the first stick at x >= x_mu (NaN if none).
+    contraction : numpy.ndarray
+        Ratio of the last two zone-stick increments of an accumulation (NaN otherwise).
+    entry_time : numpy.ndarray
+        Time of the first arrival at x_mu, in periods.
+    entry_tau : numpy.ndarray
+        The phase of the first arrival at x_mu.
+    entry_v : numpy.ndarray
+        The velocity x' at the first arrival at x_mu.
+    method : str
+        The solver the entries ran with.
+    zone : StopZone
+        The stop zone (x_mu, w, c_mu).
+
+    See Also
+    --------
+    positioning : Computes it.
+
+    Examples
+    --------
+    >>> import selfalign as sa
+    >>> profile = sa.ThreePhaseProfile(dt=1.05, dy=0.084, y2=2.2, y3=0.9)
+    >>> result = sa.positioning(profile, w=0.05, c_mu=2.5, n_entries=8)
+    >>> result.case, result.accumulation, [str(s) for s in (list(sa.Status)[c] for c in result.status[:3])]
+    (1, 'some', ['rest', 'accumulation', 'accumulation'])
+    >>> result.zone
+    StopZone(x_mu=0.0654116..., w=0.05, c_mu=2.5)
     """
 
     profile: ThreePhaseProfile
@@ -334,12 +429,12 @@ def positioning(profile: ThreePhaseProfile, *, w: float, c_mu: float, n_entries:
     Raises
     ------
     TypeError
-        If ``w``, ``c_mu``, ``n_entries``, ``offset``, ``max_periods``, ``accumulation_tol``
-        or ``ramp`` is not a real number.
+        If ``profile`` is not a ThreePhaseProfile, ``friction`` is not a FrictionLaw, or
+        ``w``, ``c_mu``, ``n_entries``, ``offset``, ``max_periods``, ``accumulation_tol`` or
+        ``ramp`` is not a real number.
     ValueError
-        If ``profile`` is not a ThreePhaseProfile; a number is outside its range above or
-        not finite; the entries would need more than 2 GiB or 1e10 entry-periods;
-        ``friction`` is not a FrictionLaw; the ramps do not fit the profile's phases; or the
+        If a number is outside its range above or not finite; the entries would need more
+        than 2 GiB or 1e10 entry-periods; the ramps do not fit the profile's phases; or the
         steady state does not move forward.
 
     See Also
@@ -368,7 +463,7 @@ def positioning(profile: ThreePhaseProfile, *, w: float, c_mu: float, n_entries:
 def _friction(friction) -> FrictionLaw:
     friction = FrictionLaw() if friction is None else friction
     if not isinstance(friction, FrictionLaw):
-        raise ValueError(f"friction must be a FrictionLaw, got {friction!r}")
+        raise TypeError(f"friction must be a FrictionLaw, got {friction!r}")
     return friction
 
 
@@ -376,7 +471,7 @@ def _positioning(profile, w, c_mu, n_entries, offset, max_periods, accumulation_
                  ramp=0.0):
     """(per-entry runs of the one setting, Positioning) with the level crossings of ``levels``."""
     if not isinstance(profile, ThreePhaseProfile):
-        raise ValueError(f"positioning needs a ThreePhaseProfile, got {type(profile).__name__}")
+        raise TypeError(f"positioning needs a ThreePhaseProfile, got {type(profile).__name__}")
     _check_zone(w, c_mu, n_entries, offset, max_periods, ramp, accumulation_tol, 1, levels.size)
     arrays = [np.array([v]) for v in (profile.dt, profile.dy, profile.y2, profile.y3)]
     if ramp > 0.0:

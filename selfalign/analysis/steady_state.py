@@ -261,9 +261,11 @@ def steady_state(profile_or_params) -> SteadyState:
 
     Raises
     ------
+    TypeError
+        If the argument is none of these, or a parameter is not a real number.
     ValueError
-        If the argument is none of these, the mapping names another kind or misses a key,
-        or a parameter is not finite and > 0.
+        If the tuple does not hold 4 parameters, the mapping names another kind or misses a
+        key, or a parameter is not finite and > 0.
 
     See Also
     --------

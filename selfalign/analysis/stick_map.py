@@ -39,6 +39,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..model.errors import check_real_array
 from ..model.friction import StopZone, level_position
 from ..model.profiles import ThreePhaseProfile
 from ..model.registry import formula
@@ -68,8 +69,9 @@ def stick_map_constants(profile: ThreePhaseProfile, zone: StopZone) -> StickMapC
 
 
 def _positions(x_n) -> np.ndarray:
-    """x_n as a float array; ValueError unless every entry is finite."""
-    x_n = np.asarray(x_n, dtype=float)
+    """x_n as a float array; TypeError unless its entries are real numbers, ValueError unless every
+    entry is finite."""
+    x_n = check_real_array("x_n", x_n)
     if not np.all(np.isfinite(x_n)):
         raise ValueError(f"x_n must be finite stick positions; got {x_n[~np.isfinite(x_n)].ravel()[:3].tolist()}")
     return x_n
@@ -123,8 +125,8 @@ def stick_map(x_n, profile: ThreePhaseProfile, *, w: float, c_mu: float, x_mu: f
     Raises
     ------
     TypeError
-        If ``profile`` is not a ThreePhaseProfile, or ``w``, ``c_mu`` or ``x_mu`` is not a
-        real number.
+        If ``profile`` is not a ThreePhaseProfile, ``x_n`` does not hold real numbers, or
+        ``w``, ``c_mu`` or ``x_mu`` is not a real number.
     ValueError
         If the zone is invalid (see :class:`~selfalign.StopZone`),
         ``c_mu`` <= 1, or an ``x_n`` is not finite.

@@ -63,7 +63,7 @@ debug_option = click.option("--debug", is_flag=True, expose_value=False, callbac
 
 
 def reported(command):
-    """Turn the library's ValueError (SceneError, NonPhysicalProfile) and OSError into one
+    """Turn the library's ValueError (SceneError, DesignSpecError, NonPhysicalProfile) and OSError into one
     line and exit code 2; after --debug, print the traceback first."""
 
     @functools.wraps(command)

@@ -12,13 +12,37 @@ from importlib import resources
 from pathlib import Path
 
 from ..model.design_spec import DesignGrid, DesignSpec, period_from_frequency
-from ..model.errors import SceneError
+from ..model.errors import SelfalignError
 from ..model.friction import FrictionLaw
 from .scene_files import first_non_finite, read_yaml, schema_error_message
 
 
-class DesignSpecError(SceneError):
-    """A design spec file is invalid; the message names the file and the key."""
+class DesignSpecError(SelfalignError, ValueError):
+    """A design spec file is invalid; the message names the file and the key.
+
+    Raised by :func:`~selfalign.load_design_spec` before any work, with one line naming the file
+    and the key, for a file that cannot be read, is not valid YAML, breaks the schema or gives
+    values the :class:`~selfalign.DesignSpec` refuses.  It is a :class:`~selfalign.SelfalignError`
+    and a ValueError, not a :class:`~selfalign.SceneError`: a spec is not a scene.
+
+    See Also
+    --------
+    load_design_spec : Reads a design spec file.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> import selfalign as sa
+    >>> folder = tempfile.TemporaryDirectory()
+    >>> path = pathlib.Path(folder.name) / "station.yaml"
+    >>> _ = path.write_text("machine: [")
+    >>> try:
+    ...     sa.load_design_spec(path)
+    ... except sa.DesignSpecError as exc:
+    ...     print(str(exc).split(": ", 1)[1], isinstance(exc, sa.SceneError))
+    not valid YAML at line 1 (expected the node content, but found '<stream end>') False
+    >>> folder.cleanup()
+    """
 
 
 @lru_cache(maxsize=1)
@@ -100,10 +124,10 @@ def load_design_spec(path) -> DesignSpec:
     ------
     TypeError
         If ``path`` is not a str or path-like object.
-    SceneError
-        Its subclass ``selfalign.io.design_spec.DesignSpecError``: if the file cannot be
-        read, is not UTF-8 text or valid YAML, repeats a key, breaks the schema, holds a NaN
-        or infinity, or gives values the :class:`~selfalign.DesignSpec` refuses.
+    DesignSpecError
+        If the file cannot be read, is not UTF-8 text or valid YAML, repeats a key, breaks the
+        schema, holds a NaN or infinity, or gives values the :class:`~selfalign.DesignSpec`
+        refuses.
 
     See Also
     --------
@@ -128,7 +152,7 @@ def load_design_spec(path) -> DesignSpec:
     >>> _ = path.write_text(path.read_text().replace("acceleration: 8.0", "acceleration: -8.0"))
     >>> try:
     ...     sa.load_design_spec(path)
-    ... except sa.SceneError as exc:
+    ... except sa.DesignSpecError as exc:
     ...     print(type(exc).__name__, str(exc).split(": ", 1)[1])
     DesignSpecError actuator.acceleration: must be > 0, got -8.0
     >>> folder.cleanup()

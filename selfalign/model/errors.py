@@ -2,6 +2,25 @@
 
 Every check raises before any work starts, with a one-line message naming
 the offending quantity and what is allowed.
+
+The library's own exceptions share one base, so ``except selfalign.SelfalignError`` catches
+every one of them; each also keeps a builtin base, so ``except ValueError`` (or
+``RuntimeError``) catches it too::
+
+    SelfalignError(Exception)
+    ├── NonPhysicalProfile(SelfalignError, ValueError)  a three-phase profile with no real solution
+    ├── SceneError(SelfalignError, ValueError)          an invalid scene file or Scene object
+    ├── DesignSpecError(SelfalignError, ValueError)     an invalid design spec file
+    │                                                   (selfalign.io.design_spec; not a SceneError)
+    └── KernelError(SelfalignError, RuntimeError)       the compiled kernel cannot be imported or
+                                                        compiled (selfalign.solvers.jit)
+
+Wrong input to a function or class is a builtin error: TypeError for an argument of the wrong
+type (a string or an array where a number is expected, a number where a profile is expected:
+:func:`check_real`, :func:`check_real_array`, :func:`check_integer`), ValueError (or SceneError,
+for a Scene) for a wrong value (negative, NaN, out of range: :func:`check_finite`,
+:func:`check_positive`).  A scene file or design spec, and the dict of one, is a document: any
+problem in it, of type or value, is a SceneError or DesignSpecError naming the key.
 """
 
 from __future__ import annotations
@@ -10,16 +29,46 @@ import math
 import numbers
 from importlib.util import find_spec
 
+import numpy as np
 
-class NonPhysicalProfile(ValueError):
+
+class SelfalignError(Exception):
+    """Base of the library's own exceptions.
+
+    ``except selfalign.SelfalignError`` catches every exception the library raises on purpose:
+    :class:`~selfalign.NonPhysicalProfile`, :class:`~selfalign.SceneError` and
+    :class:`~selfalign.DesignSpecError` (each also a ValueError) and
+    :class:`~selfalign.KernelError` (also a RuntimeError).  Wrong arguments of a function or
+    class are the builtin TypeError or ValueError (the module docstring of
+    ``selfalign.model.errors`` draws the hierarchy).
+
+    See Also
+    --------
+    SceneError : An invalid scene file or Scene object.
+    DesignSpecError : An invalid design spec file.
+
+    Examples
+    --------
+    >>> import selfalign as sa
+    >>> try:
+    ...     sa.ThreePhaseProfile(dt=1.0, dy=1.0, y2=1.0, y3=1.0)
+    ... except sa.SelfalignError as exc:
+    ...     print(type(exc).__name__, isinstance(exc, ValueError))
+    NonPhysicalProfile True
+    >>> issubclass(sa.KernelError, sa.SelfalignError), issubclass(sa.KernelError, RuntimeError)
+    (True, True)
+    """
+
+
+class NonPhysicalProfile(SelfalignError, ValueError):
     """The requested three-phase profile has no real solution (the paper's case 0).
 
     The seven constraints of the Appendix (Sect. 4.4.3) have a real solution only while the
     feasibility number q = sqrt(8 dy (1/y2 + 1/y3)) / dt is at most 1; beyond it lies case 0 of
     Table 1.  :class:`~selfalign.ThreePhaseProfile` (and its finite-jerk version)
     raises this error before any work, with one line naming the largest stroke that is
-    physical.  It is a ValueError, so ``except ValueError`` catches it too; scene files report
-    it as a :class:`SceneError` naming the file.
+    physical.  It is a :class:`SelfalignError` and a ValueError, so ``except ValueError``
+    catches it too; scene files report it as a :class:`SceneError` naming the file.
 
     See Also
     --------
@@ -40,16 +89,16 @@ class NonPhysicalProfile(ValueError):
     """
 
 
-class SceneError(ValueError):
+class SceneError(SelfalignError, ValueError):
     """A scene file or Scene object is invalid; the message names file and key.
 
     Raised before any work starts, with a one-line message naming the offending quantity and
     what is allowed: by :class:`~selfalign.Scene` and :class:`~selfalign.Record` for a bad
     field, and by :func:`~selfalign.load_scene` and :func:`~selfalign.scene_from_dict` for a
     file or mapping that cannot be read, breaks the schema or describes no physical scene (the
-    message then starts with the file and the key).  Design spec files raise its subclass
-    ``selfalign.io.design_spec.DesignSpecError``.  It is a ValueError, so
-    ``except ValueError`` catches it too.
+    message then starts with the file and the key).  Design spec files raise
+    :class:`~selfalign.DesignSpecError` instead, which is not a SceneError.  It is a
+    :class:`SelfalignError` and a ValueError, so ``except ValueError`` catches it too.
 
     See Also
     --------
@@ -97,6 +146,16 @@ def check_real(name: str, value) -> float:
         raise TypeError(f"{name} must be a real number (int, float or numpy scalar), got {value!r} "
                         f"({type(value).__name__})")
     return float(value)
+
+
+def check_real_array(name: str, value) -> np.ndarray:
+    """Return ``value``, a real number or an array-like of them, as a float array, or raise
+    TypeError naming ``name`` unless its entries are integers or floats (strings, bools, None
+    and other objects are refused, not converted)."""
+    array = np.asarray(value)
+    if array.dtype.kind not in "iuf":
+        raise TypeError(f"{name} must be a real number or an array of them, got {array.dtype} {value!r:.60}")
+    return np.asarray(array, dtype=float)
 
 
 def check_finite(name: str, value) -> float:

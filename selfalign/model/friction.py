@@ -314,9 +314,66 @@ FRICTION_KINDS = ("coulomb", "static_kinetic", "stribeck")
 
 
 class FrictionLaw:
-    """How friction depends on the state beyond mu_bar(x): the paper's Coulomb law (the
-    default), static/kinetic (``mu_s_over_mu_k`` = r > 1) or Stribeck (r and ``v_s`` > 0,
-    ``delta`` > 0); see the module docstring.  Velocities are dimensionless (Sect. 3.2).
+    """How friction depends on the state beyond mu_bar(x): Coulomb, static/kinetic or Stribeck.
+
+    The paper's Coulomb law is the default.  Static/kinetic friction holds a stick with
+    ``mu_s_over_mu_k`` = r > 1 times the kinetic friction mu_bar(x) and slips at mu_bar(x);
+    Stribeck friction also falls from r mu_bar at zero relative velocity to mu_bar as the
+    relative velocity grows, over the Stribeck velocity ``v_s`` with exponent ``delta``
+    (the module docstring of ``selfalign.model.friction`` has the law).  Velocities are
+    dimensionless (Sect. 3.2).  A :class:`Scene` takes it as ``friction``, scene files as the
+    ``friction`` block.
+
+    Parameters
+    ----------
+    kind : str
+        "coulomb" (the default), "static_kinetic" or "stribeck".
+    mu_s_over_mu_k : float
+        The ratio r >= 1 of static to kinetic friction; 1 with "coulomb".
+    v_s : float or None
+        The Stribeck velocity, > 0; required with "stribeck" and refused otherwise.
+    delta : float
+        The Stribeck exponent, > 0 (2 by default); used with "stribeck" only.
+
+    Attributes
+    ----------
+    kind : str
+        The kind of law.
+    ratio : float
+        r = mu_s / mu_k.
+    v_s : float
+        The Stribeck velocity (0 unless "stribeck").
+    delta : float
+        The Stribeck exponent (0 unless "stribeck").
+    stribeck : bool
+        Whether the law is Stribeck's.
+
+    Raises
+    ------
+    TypeError
+        If ``mu_s_over_mu_k``, ``v_s`` or ``delta`` is not a real number.
+    ValueError
+        If ``kind`` is unknown, r is not finite or < 1 (or not 1 with "coulomb"), or ``v_s``
+        is missing with "stribeck", given with another kind, or not > 0.
+
+    See Also
+    --------
+    Scene : Takes the law as ``friction``.
+    positioning : Takes the law as ``friction``.
+
+    Examples
+    --------
+    >>> import selfalign as sa
+    >>> sa.FrictionLaw("static_kinetic", 1.3)
+    FrictionLaw(kind='static_kinetic', mu_s_over_mu_k=1.3)
+    >>> law = sa.FrictionLaw("stribeck", 1.3, v_s=0.1)
+    >>> law.factor([0.0, 0.1, 1.0]).round(4).tolist()  # mu(v) / mu_k
+    [1.3, 1.1104, 1.0]
+    >>> try:
+    ...     sa.FrictionLaw("static_kinetic", 0.5)
+    ... except ValueError as exc:
+    ...     print(exc)
+    friction.mu_s_over_mu_k must be >= 1 (static friction is at least kinetic), got 0.5
     """
 
     def __init__(self, kind: str = "coulomb", mu_s_over_mu_k: float = 1.0, v_s: float | None = None,
@@ -345,7 +402,7 @@ class FrictionLaw:
         return self.kind == "stribeck"
 
     def factor(self, v):
-        """mu(v) / mu_k: 1 (Coulomb, static/kinetic in slip) or :func:`stribeck_factor`, elementwise."""
+        """mu(v) / mu_k: 1 (Coulomb, static/kinetic in slip) or ``stribeck_factor``, elementwise."""
         v = np.asarray(v, dtype=float)
         if not self.stribeck:
             return np.ones_like(v)

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import NonPhysicalProfile, check_finite, check_positive
+from .errors import NonPhysicalProfile, check_finite, check_positive, check_real_array
 from .registry import formula
 
 #: The cases of Table 1 (the steady-state classification of a three-phase profile, Sect. 5).
@@ -125,7 +125,8 @@ class PiecewiseConstantProfile(Profile):
     Raises
     ------
     TypeError
-        If ``y_start`` or ``yd_start`` is not a real number.
+        If ``y_start`` or ``yd_start`` is not a real number, or ``breaks`` or ``accels``
+        does not hold real numbers.
     ValueError
         If ``y_start`` or ``yd_start`` is not finite; if ``breaks`` is not 1-D with at
         least two entries and one more than ``accels``, is not finite, does not start at 0,
@@ -156,8 +157,8 @@ class PiecewiseConstantProfile(Profile):
     def __init__(self, breaks, accels, y_start: float, yd_start: float):
         y_start = check_finite("y_start", y_start)
         yd_start = check_finite("yd_start", yd_start)
-        breaks = np.asarray(breaks, dtype=float)
-        accels = np.asarray(accels, dtype=float)
+        breaks = check_real_array("breaks", breaks)
+        accels = check_real_array("accels", accels)
         if breaks.ndim != 1 or breaks.size < 2 or accels.shape != (breaks.size - 1,):
             raise ValueError("breaks must be 1-D with at least two entries and one entry more than accels")
         if not np.all(np.isfinite(breaks)) or breaks[0] != 0.0 or np.any(np.diff(breaks) < 0) \
@@ -618,17 +619,91 @@ def ramp_times(dt: float, y2: float, y3: float, ramp: float | None = None, jerk:
 
 
 class FiniteJerkProfile(PiecewiseLinearProfile):
-    """The three-phase profile (Sect. 4.4.3) with finite jerk: y'' moves linearly between the
-    levels 0, -y2, +y3 over a ramp of time ``ramp`` at each switch (or |jump| / ``jerk``),
-    the ramps centred on the switch times of :func:`finite_jerk_times`, which keep the
-    Appendix's constraints (zero-mean y'' and y', the stroke dy, min y = 0).  t = 0 is the
-    centre of the ramp from +y3 to 0; as the ramps vanish this is the paper's profile.
+    """The three-phase profile (Sect. 4.4.3) with finite jerk: y'' ramps between its levels.
 
-    Each ramp ends on its level exactly (``ends``), so max|y''| = max(y2, y3) is the largest
-    y'' the solvers see.  A ramp must be at least :data:`MIN_RAMP_FRACTION` dt (3.6e-15 dt,
-    a jerk at most min(y2, y3) / that): a shorter one is below the rounding of its break times
-    and is refused (ValueError naming ``ramp`` or ``jerk``) rather than silently made the
-    paper's jump, which is :class:`ThreePhaseProfile`, a different solver path.
+    y'' moves linearly between the levels 0, -y2, +y3 over a ramp of time ``ramp`` at each
+    switch (or ``|jump| / jerk``), the ramps centred on the switch times of
+    ``selfalign.model.profiles.finite_jerk_times``, which keep the Appendix's constraints
+    (zero-mean y'' and y', the stroke dy, min y = 0).  t = 0 is the centre of the ramp from
+    +y3 to 0; as the ramps vanish this is the paper's profile.
+
+    Each ramp ends on its level exactly, so max ``|y''|`` = max(y2, y3) is the largest y'' the
+    solvers see.  A ramp must be at least ``MIN_RAMP_FRACTION`` dt (3.6e-15 dt, a jerk at most
+    min(y2, y3) / that): a shorter one is below the rounding of its break times and is refused
+    rather than silently made the paper's jump, which is :class:`ThreePhaseProfile`, a
+    different solver path.  Scene files give it as a three-phase profile with ``ramp`` or
+    ``jerk``.
+
+    Parameters
+    ----------
+    dt : float
+        Period.
+    dy : float
+        Stroke, max y - min y.
+    y2 : float
+        Magnitude of the deceleration level, y'' = -y2.
+    y3 : float
+        Magnitude of the acceleration level, y'' = +y3.
+    ramp : float or None
+        Time of each ramp of y''; give exactly one of ``ramp`` and ``jerk``.
+    jerk : float or None
+        The slope of every ramp, the largest ``|d y''/dt|``; each ramp then takes its jump
+        divided by ``jerk``.
+
+    Attributes
+    ----------
+    dt : float
+        The period.
+    dy : float
+        The stroke.
+    y2 : float
+        Magnitude of the deceleration level.
+    y3 : float
+        Magnitude of the acceleration level.
+    ramp : float or None
+        The ramp time given.
+    jerk : float or None
+        The jerk given.
+    ramps : tuple of float
+        Times of the ramps into -y2, into +y3 and from +y3 to 0.
+    t1 : float
+        Centre of the ramp from 0 to -y2.
+    t2 : float
+        Centre of the ramp from -y2 to +y3.
+    t3 : float
+        dt, the end of the period.
+    yd_ini : float
+        y' on the dwell at y'' = 0.
+    kind : str
+        ``"three_phase"``, the profile kind of scene files.
+
+    Raises
+    ------
+    TypeError
+        If a parameter is not a real number.
+    ValueError
+        If a parameter is not finite, not > 0 or outside [1e-30, 1e30], if not exactly one of
+        ``ramp`` and ``jerk`` is given, if a ramp is shorter than ``MIN_RAMP_FRACTION`` dt, or
+        if the ramps are too long for the profile.
+    NonPhysicalProfile
+        If no physical profile exists with these ramps (the stroke cannot be reached in one
+        period).
+
+    See Also
+    --------
+    ThreePhaseProfile : The paper's profile, whose y'' jumps.
+
+    Examples
+    --------
+    >>> import selfalign as sa
+    >>> profile = sa.FiniteJerkProfile(dt=1.05, dy=0.084, y2=2.2, y3=0.9, ramp=0.01)
+    >>> profile
+    FiniteJerkProfile(dt=1.05, dy=0.084, y2=2.2, y3=0.9, ramp=0.01)
+    >>> print(round(profile.t1, 6), round(profile.t2, 6), profile.ramps)
+    0.159377 0.417945 (0.01, 0.01, 0.01)
+    >>> traj = sa.simulate(sa.Scene(profile, sa.StopZone(x_mu=0.5, w=0.05, c_mu=2.5), until="rest"))
+    >>> print(traj.status, traj.x_end)
+    accumulation 0.54
     """
 
     kind = "three_phase"
@@ -801,7 +876,7 @@ class FourierProfile(Profile):
     Raises
     ------
     TypeError
-        If ``dt`` is not a real number.
+        If ``dt`` is not a real number, or the coefficients do not hold real numbers.
     ValueError
         If ``dt`` is not finite and > 0, the coefficients are not 1-D arrays of equal
         length, or a coefficient is not finite.
@@ -826,8 +901,8 @@ class FourierProfile(Profile):
 
     def __init__(self, dt: float, cos_coeffs, sin_coeffs):
         self.dt = check_positive("dt", dt)
-        self.cos_coeffs = np.asarray(cos_coeffs, dtype=float)
-        self.sin_coeffs = np.asarray(sin_coeffs, dtype=float)
+        self.cos_coeffs = check_real_array("cos_coeffs", cos_coeffs)
+        self.sin_coeffs = check_real_array("sin_coeffs", sin_coeffs)
         if self.cos_coeffs.shape != self.sin_coeffs.shape or self.cos_coeffs.ndim != 1:
             raise ValueError("cos_coeffs and sin_coeffs must be 1-D arrays of equal length")
         if not (np.all(np.isfinite(self.cos_coeffs)) and np.all(np.isfinite(self.sin_coeffs))):

@@ -163,13 +163,14 @@ class Scene:
     Raises
     ------
     TypeError
-        If ``x0``, ``v0``, ``phase``, ``periods`` or ``max_periods`` is not a real number.
+        If ``profile``, ``surface``, ``friction``, ``record``, ``si`` or ``solver_options``
+        has the wrong type, or ``x0``, ``v0``, ``phase``, ``periods`` or ``max_periods`` is
+        not a real number.
     SceneError
-        If ``profile``, ``surface`` or ``friction`` has the wrong type; ``x0``, ``v0`` or
-        ``phase`` is not finite or ``phase`` lies outside [0, 1); the horizon is missing,
-        gives both ``periods`` and ``until="rest"``, or its counts are not integers in
-        [1, 2**53]; ``method`` is unknown; ``solver_options`` is not a dict; or the recording
-        would need more than 2 GiB.
+        If ``x0``, ``v0`` or ``phase`` is not finite or ``phase`` lies outside [0, 1); the
+        horizon is missing, gives both ``periods`` and ``until="rest"``, or its counts are
+        not integers in [1, 2**53]; ``method`` is unknown; or the recording would need more
+        than 2 GiB.
 
     See Also
     --------
@@ -209,12 +210,13 @@ class Scene:
     description: str = ""
 
     def __post_init__(self):
-        if not isinstance(self.profile, Profile):
-            raise SceneError(f"profile must be a selfalign profile, got {type(self.profile).__name__}")
-        if not isinstance(self.surface, (Uniform, StopZone)):
-            raise SceneError(f"surface must be Uniform() or StopZone(...), got {type(self.surface).__name__}")
-        if not isinstance(self.friction, FrictionLaw):
-            raise SceneError(f"friction must be a FrictionLaw, got {type(self.friction).__name__}")
+        for key, kind, allowed in (("profile", Profile, "a selfalign profile"),
+                                   ("surface", (Uniform, StopZone), "Uniform() or StopZone(...)"),
+                                   ("friction", FrictionLaw, "a FrictionLaw"), ("record", Record, "a Record"),
+                                   ("si", (SIScale, type(None)), "an SIScale or None"),
+                                   ("solver_options", dict, "a mapping of solver options")):
+            if not isinstance(getattr(self, key), kind):
+                raise TypeError(f"{key} must be {allowed}, got {type(getattr(self, key)).__name__}")
         for key in ("x0", "v0", "phase"):
             try:
                 object.__setattr__(self, key, check_finite(key, getattr(self, key)))
@@ -236,8 +238,6 @@ class Scene:
         object.__setattr__(self, "until", until)
         if self.method not in METHODS:
             raise SceneError(f"solver.method must be one of {list(METHODS)}, got {self.method!r}")
-        if not isinstance(self.solver_options, dict):
-            raise SceneError(f"solver.options must be a mapping, got {type(self.solver_options).__name__}")
         if self.record.dense:
             size = self.horizon_periods * self.record.samples_per_period * (1 + len(self.record.series)) * 8
             if size > RECORD_MEMORY_LIMIT:

@@ -12,12 +12,11 @@ the stepper provides (arcs, steps or solve_ivp's dense output).
 from __future__ import annotations
 
 import functools
-import numbers
 import time
 
 import numpy as np
 
-from ..model.errors import check_integer
+from ..model.errors import check_integer, check_real_array
 from ..model.friction import FrictionLaw, StopZone, check_zone_position
 from ..model.scene import Scene
 from . import moreau
@@ -115,9 +114,8 @@ def simulate(scene: Scene, method: str | None = None, **options) -> Trajectory:
         cannot simulate the scene (e.g. the exact solver with a Fourier profile on a stop
         zone or with Stribeck friction, a Moreau horizon of more than 1e10 steps, an
         ``accumulation_tol`` above 1e-6 of the zone width).
-    RuntimeError
-        ``selfalign.solvers.jit.KernelError``, if numba is missing or cannot compile the
-        kernel.
+    KernelError
+        If numba is missing or cannot compile the kernel (a RuntimeError).
 
     See Also
     --------
@@ -348,14 +346,15 @@ def simulate_batch(profiles, x0, v0=0.0, phase=0.0, *, profile_index=None, surfa
     Raises
     ------
     TypeError
-        If an option that takes a number gets something else, a per-member input does not
-        hold real numbers, ``profile_index`` does not hold integers, or ``periods`` or
-        ``max_periods`` is not a number.
+        If ``profiles`` holds something other than profiles, ``friction`` is not a
+        FrictionLaw, an option that takes a number gets something else, a per-member input
+        or ``levels`` does not hold real numbers, ``profile_index`` does not hold integers,
+        or ``periods``, ``max_periods`` or ``max_cycle`` is not a number.
     ValueError
         If the method or an option is unknown or not allowed (``ivp``; Stribeck friction
-        with the exact solver; a Moreau horizon of more than 1e10 steps); ``friction`` is
-        not a FrictionLaw; ``until`` is unknown or its horizon is missing or not an integer
-        >= 1; ``max_cycle`` is outside [1, 1024]; ``profiles`` holds no profile or mixes
+        with the exact solver; a Moreau horizon of more than 1e10 steps); ``until`` is
+        unknown or its horizon is missing or not an integer >= 1; ``max_cycle`` is not an
+        integer in [1, 1024]; ``profiles`` holds no profile or mixes
         kinds; per-member inputs are not scalars or 1-D of one length, or not finite;
         ``profile_index`` lies outside the profiles; ``phase`` lies outside [0, 1) (or
         differs between Moreau members); a Uniform ``surface`` comes with ``x_mu``, ``w``
@@ -363,9 +362,8 @@ def simulate_batch(profiles, x0, v0=0.0, phase=0.0, *, profile_index=None, surfa
         ``c_mu`` < 1, ``|x_mu| > 2**32 w`` or an ``accumulation_tol`` above 1e-6 of w; the exact
         solver gets a Fourier profile on a stop zone; ``levels`` holds NaN; or the records
         would exceed 2 GiB.
-    RuntimeError
-        ``selfalign.solvers.jit.KernelError``, if numba is missing or cannot compile the
-        kernel.
+    KernelError
+        If numba is missing or cannot compile the kernel (a RuntimeError).
 
     See Also
     --------
@@ -397,15 +395,14 @@ def simulate_batch(profiles, x0, v0=0.0, phase=0.0, *, profile_index=None, surfa
     options = resolve(method, options)
     friction = FrictionLaw() if friction is None else friction
     if not isinstance(friction, FrictionLaw):
-        raise ValueError(f"friction must be a FrictionLaw, got {type(friction).__name__}")
+        raise TypeError(f"friction must be a FrictionLaw, got {type(friction).__name__}")
     refused = friction_refused(method, friction, options)
     if refused:
         raise ValueError(refused)
     if method == "ivp":
         raise ValueError("simulate_batch runs the compiled methods 'exact' and 'moreau'; use simulate for 'ivp'")
     until_code, total, horizon_name = _horizon(until, periods, max_periods)
-    if isinstance(max_cycle, bool) or not isinstance(max_cycle, numbers.Integral) or not 1 <= max_cycle <= 1024:
-        raise ValueError(f"max_cycle must be an integer in [1, 1024], got {max_cycle!r}")
+    max_cycle = check_integer("max_cycle", max_cycle, 1, 1024)
     table = profile_table(profiles, method, phase, options)
     shapes = [np.shape(a) for a in (x0, v0, phase, profile_index, x_mu, w, c_mu) if a is not None]
     try:
@@ -462,7 +459,7 @@ def simulate_batch(profiles, x0, v0=0.0, phase=0.0, *, profile_index=None, surfa
         raise ValueError("method 'exact' cannot simulate a Fourier profile on a stop zone; use 'moreau'")
     boundaries = np.zeros((size, 0))
     if x_mu is not None or levels is not None:
-        lev = np.zeros((size, 0)) if levels is None else np.asarray(levels, dtype=float)
+        lev = np.zeros((size, 0)) if levels is None else check_real_array("levels", levels)
         lev = np.array(np.broadcast_to(lev if lev.ndim == 2 else lev[None, :], (size, lev.shape[-1])))
         if np.any(np.isnan(lev)):
             raise ValueError("levels must not be NaN (+inf: never reached)")

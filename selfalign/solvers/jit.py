@@ -30,6 +30,8 @@ import sys
 import time
 from pathlib import Path
 
+from ..model.errors import SelfalignError
+
 #: Source files the compiled kernel is built from (relative to the package): the kernel and every
 #: module of the package it imports, directly or not (tests/test_jit.py checks the closure).
 SOURCES = tuple(f"solvers/engine/{name}.py" for name in (
@@ -46,8 +48,24 @@ _kernel = None
 _announced = False
 
 
-class KernelError(RuntimeError):
-    """The compiled event kernel cannot be imported or compiled on this machine."""
+class KernelError(SelfalignError, RuntimeError):
+    """The compiled event kernel cannot be imported or compiled on this machine.
+
+    The exact and Moreau solvers run compiled code (numba).  On first use the kernel is
+    imported and compiled; if numba is missing or compilation fails, every solver call raises
+    this error with a message saying why.  It is a :class:`~selfalign.SelfalignError` and a
+    RuntimeError.
+
+    See Also
+    --------
+    simulate : Compiles the kernel on its first call.
+
+    Examples
+    --------
+    >>> import selfalign as sa
+    >>> issubclass(sa.KernelError, sa.SelfalignError), issubclass(sa.KernelError, RuntimeError)
+    (True, True)
+    """
 
 
 def cache_root() -> Path:

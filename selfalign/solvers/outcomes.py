@@ -9,16 +9,17 @@ with :func:`message`.  Nothing here imports numba.
 
 from __future__ import annotations
 
-from enum import Enum, IntEnum
+from enum import IntEnum, StrEnum
 
 
-class Status(str, Enum):
+class Status(StrEnum):
     """How a run ended.
 
     One vocabulary for how every run ends, scalar and batch, for every method: a run ends
-    for one :class:`Reason`, and each reason belongs to one status.  Status is a ``str``
-    enum, so each member equals its value.  :class:`~selfalign.BatchResult`
-    stores status codes, the index of a status in ``list(Status)``.
+    for one :class:`Reason`, and each reason belongs to one status.  Status is a
+    ``StrEnum``: each member equals its value and reads as it (``str()``, f-strings, a numpy
+    array of statuses).  :class:`~selfalign.BatchResult` stores status codes, the index of a
+    status in ``list(Status)``.
 
     Attributes
     ----------
@@ -45,8 +46,8 @@ class Status(str, Enum):
     >>> import selfalign as sa
     >>> [status.value for status in sa.Status]
     ['horizon', 'rest', 'accumulation', 'never_stops', 'error']
-    >>> sa.Status("rest") is sa.Status.REST, sa.Status.REST == "rest"
-    (True, True)
+    >>> sa.Status("rest") is sa.Status.REST, sa.Status.REST == "rest", str(sa.Status.REST)
+    (True, True, 'rest')
     >>> list(sa.Status).index(sa.Status.ACCUMULATION)  # its status code in a BatchResult
     2
     """

@@ -8,6 +8,7 @@ when they were asked for.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -169,7 +170,8 @@ class BatchResult:
     (period -1: never), the velocity there and the stick events at x >= x_mu before it.
     Each member ends with a :class:`~selfalign.Reason` and its :class:`~selfalign.Status`,
     the vocabulary of :class:`~selfalign.Trajectory`.
-    ``len(result)`` is the number of members B.
+    ``len(result)`` is the number of members B.  ``t_end`` and ``events`` are deprecated names
+    of ``t_end_periods`` and ``event_count``: they warn with a DeprecationWarning.
 
     Parameters
     ----------
@@ -206,9 +208,10 @@ class BatchResult:
         Completed periods at the end.
     tau_end : numpy.ndarray
         The time within the period at the end.
-    t_end : numpy.ndarray
-        End times in periods, n_end + tau_end / dt.
-    events : numpy.ndarray
+    t_end_periods : numpy.ndarray
+        End times in periods, period_end + tau_end / dt (the end time t_end of a result file
+        or of the CLI divided by the period dt).
+    event_count : numpy.ndarray
         Number of events of each run.
     stick_events : numpy.ndarray
         Number of stick events of each run.
@@ -293,13 +296,27 @@ class BatchResult:
         return self.records["tau_end"]
 
     @property
-    def t_end(self) -> np.ndarray:
-        """End times in periods, n_end + tau_end / dt."""
+    def t_end_periods(self) -> np.ndarray:
+        """End times in periods, period_end + tau_end / dt (the end time t_end of a result file or
+        of the CLI, period_end * dt + tau_end, divided by the period dt)."""
         return self.records["n_end"] + self.records["tau_end"] / self.dt
 
     @property
-    def events(self) -> np.ndarray:
+    def event_count(self) -> np.ndarray:
+        """Number of events of each member (a count; ``Trajectory.events`` is the event log)."""
         return self.records["events"]
+
+    @property
+    def t_end(self) -> np.ndarray:
+        """Deprecated name of ``t_end_periods`` (it is in periods, not time)."""
+        _renamed("t_end", "t_end_periods")
+        return self.t_end_periods
+
+    @property
+    def events(self) -> np.ndarray:
+        """Deprecated name of ``event_count`` (a count, not an event log)."""
+        _renamed("events", "event_count")
+        return self.event_count
 
     @property
     def stick_events(self) -> np.ndarray:
@@ -358,6 +375,10 @@ class BatchResult:
     def message(self, i: int) -> str:
         """The message of member ``i`` (:data:`~selfalign.solvers.outcomes.MESSAGES`)."""
         return outcome_message(self.records[i], float(self.origin[i]), self.options, self.until, self.horizon)
+
+
+def _renamed(old: str, new: str) -> None:
+    warnings.warn(f"BatchResult.{old} is deprecated; use BatchResult.{new}", DeprecationWarning, stacklevel=3)
 
 
 def outcome_message(rec, origin: float, options: dict, until: str, horizon: int, mu: float | None = None,

@@ -49,8 +49,12 @@ def profile_table(profiles, method: str, phase, options: dict) -> ProfileTable:
         if method == "moreau" and profiles.code != R.MOREAU or method == "exact" and profiles.code == R.MOREAU:
             raise ValueError(f"the profile table was built for another method than {method!r}")
         return profiles
-    profiles = [profiles] if isinstance(profiles, Profile) else list(profiles)
-    if not profiles or not all(isinstance(p, Profile) for p in profiles):
+    one = isinstance(profiles, (Profile, str)) or not np.iterable(profiles)
+    profiles = [profiles] if one else list(profiles)
+    wrong = sorted({type(p).__name__ for p in profiles if not isinstance(p, Profile)})
+    if wrong:
+        raise TypeError(f"profiles: give a selfalign profile, a sequence of them, or a ProfileTable; got {wrong}")
+    if not profiles:
         raise ValueError("profiles: give a selfalign profile, a non-empty sequence of them, or a ProfileTable")
     phase0 = float(np.ravel(phase)[0]) if np.size(phase) else 0.0
     rows = [kernel_row(method, p, phase0, options) for p in profiles]

@@ -41,19 +41,103 @@ BATCH = 8
 
 @dataclass(frozen=True)
 class Design:
-    """The answer of :func:`design`: the chosen profile in SI, its performance and its guarantee.
+    """The answer of design: the chosen profile in SI, its performance and its guarantee.
 
-    ``found``: a guaranteed design exists on the grid; otherwise ``explanation`` says which
-    constraint binds and what would have to change, and the profile fields hold the best
-    candidate the engine checked (if any).  Profile: ``period`` [s], ``frequency`` [Hz],
-    ``stroke`` [m], ``y2``, ``y3`` [m/s^2] (magnitudes of the two acceleration phases),
-    ``c_mu``, the phase times ``t1``, ``t2``, ``t3`` [s] (zero acceleration on [0, t1),
-    -y2'' on [t1, t2), +y3'' on [t2, t3)), ``y_ini`` [m], ``yd_ini`` [m/s].  ``case``:
-    Table 1 at the nominal mu; ``vbar`` [m/s] at the nominal mu and ``vbar_min`` over the
-    range; ``margin``: robustness margin (relative mu deviation, closed forms).
-    ``verification``: the engine's results (one row); ``t_arrive``, ``t_rest`` [s]: worst
-    over the mu samples; ``x_d``, ``error`` [m] from the strip's edge; ``front_*``: the
-    trade-offs (module :func:`design`); ``search``: counts and the time taken.
+    ``found`` says whether a guaranteed design exists on the search grid; otherwise
+    ``explanation`` says which constraint binds and what would have to change, and the profile
+    fields hold the best candidate the engine checked (if any).  The profile has zero
+    acceleration on [0, t1), -y2'' on [t1, t2) and +y3'' on [t2, t3) (``times``).  The
+    performance is the worst over the mu samples of the spec, simulated by the engine
+    (``verification``); the trade-off fronts are described at :func:`~selfalign.design`.
+
+    Parameters
+    ----------
+    spec : DesignSpec
+        The spec designed for (Attributes).
+    found : bool
+        Whether a guaranteed design exists (Attributes).
+    explanation : str
+        Why not, if not (Attributes).
+    period, stroke, y2, y3, c_mu : float
+        The profile and the strip (Attributes).
+    case : int
+        The case of Table 1 at the nominal mu (Attributes).
+    vbar, vbar_min, margin : float
+        The fields of the same names (Attributes).
+    verification : ``Verification`` or None
+        The engine's results (Attributes).
+    front_time_error, front_time_margin, search : dict
+        The fronts and the search counts (Attributes).
+
+    Attributes
+    ----------
+    spec : DesignSpec
+        The spec designed for.
+    found : bool
+        Whether a guaranteed design exists on the grid.
+    explanation : str
+        Which constraint binds and what would have to change ("" if found).
+    period : float
+        The period [s].
+    stroke : float
+        The stroke [m].
+    y2 : float
+        Magnitude of the deceleration phase [m/s^2].
+    y3 : float
+        Magnitude of the acceleration phase [m/s^2].
+    c_mu : float
+        The friction ratio of the strip.
+    case : int
+        The case of Table 1 at the nominal mu.
+    vbar : float
+        The steady average velocity at the nominal mu [m/s].
+    vbar_min : float
+        The least steady average velocity over the mu range [m/s].
+    margin : float
+        The robustness margin, a relative mu deviation (closed forms).
+    verification : ``Verification`` or None
+        The engine's results for the design (one row).
+    front_time_error : dict
+        The designs not dominated in closed-form process time and end spread over mu.
+    front_time_margin : dict
+        Closed-form process time against the robustness margin.
+    search : dict
+        Counts of the search (designs, screened, verified, entries) and its time [s].
+    frequency : float
+        1 / period [Hz].
+    times : ``ThreePhaseTimes``
+        The phase times t1, t2, t3 [s], y_ini [m] and yd_ini [m/s] of the SI profile.
+    t_arrive : float
+        The worst time to reach the strip [s].
+    t_worst : float
+        The worst process time [s].
+    t_rest : float
+        The worst time to come to rest [s].
+    x_d : float
+        The end position from the strip's edge [m].
+    error : float
+        The positioning error, half the range of end positions [m].
+    case_label : str
+        The name of the case.
+    assumptions : tuple of str
+        The model assumptions the guarantee rests on.
+
+    See Also
+    --------
+    design : Computes it.
+
+    Examples
+    --------
+    >>> import selfalign as sa
+    >>> from selfalign.model.design_spec import DesignGrid
+    >>> grid = DesignGrid(periods=2, strokes=1, accelerations=2, c_mu=1, mu_samples=3, max_verified=1)
+    >>> spec = sa.DesignSpec(mu=0.2, mu_uncertainty=0.05, c_mu=(3.0, 3.0), width=2e-3, max_stroke=1e-3,
+    ...                      max_acceleration=8.0, period=(0.01, 0.1), distance=4e-3, tolerance=250e-6, grid=grid)
+    >>> result = sa.design(spec, progress="quiet")
+    >>> result.found, result.frequency, result.case, result.margin
+    (True, 10.0, 3, 0.32)
+    >>> result.search["designs"], result.search["verified"]
+    (8, 1)
     """
 
     spec: DesignSpec
@@ -108,7 +192,7 @@ class Design:
 
     @property
     def assumptions(self) -> tuple[str, ...]:
-        """:data:`ASSUMPTIONS`, with the spec's friction law and profile in place of the paper's."""
+        """``ASSUMPTIONS``, with the spec's friction law and profile in place of the paper's."""
         law, ramp = self.spec.friction, self.spec.ramp
         friction = ASSUMPTIONS[1] if law.kind == "coulomb" else (
             f"{self.spec.effects().split('; ')[0]}, kinetic coefficient mu on the base and c_mu mu on the strip")
@@ -182,12 +266,13 @@ def design(spec: DesignSpec, *, progress: str = "auto") -> Design:
 
     Raises
     ------
+    TypeError
+        If ``spec`` is not a DesignSpec.
     ValueError
-        If ``spec`` is not a DesignSpec, or ``progress`` (or, with "auto", the environment
-        variable ``SELFALIGN_PROGRESS``) is not one of the modes.
-    RuntimeError
-        ``selfalign.solvers.jit.KernelError``, if numba is missing or cannot compile the
-        kernel.
+        If ``progress`` (or, with "auto", the environment variable ``SELFALIGN_PROGRESS``) is
+        not one of the modes.
+    KernelError
+        If numba is missing or cannot compile the kernel (a RuntimeError).
 
     See Also
     --------
@@ -213,7 +298,7 @@ def design(spec: DesignSpec, *, progress: str = "auto") -> Design:
     x_d = 1044 um +- 102 um, arrival within 3.18 s
     """
     if not isinstance(spec, DesignSpec):
-        raise ValueError(f"design needs a DesignSpec (selfalign.io.design_spec.load_design_spec reads one), "
+        raise TypeError(f"design needs a DesignSpec (selfalign.io.design_spec.load_design_spec reads one), "
                          f"got {type(spec).__name__}")
     start = time.perf_counter()
     cand = search_grid(spec)

@@ -250,7 +250,7 @@ def _process_runs(spec, cand, mus, dims, x_d, stops, out, methods) -> np.ndarray
                              friction=friction, method=choice.method, **choice.options)
         period = cand.period[rows]
         out["t_arrive"][rows, j] = res.crossing_time(2) * period
-        out["t_rest"][rows, j] = res.t_end * period
+        out["t_rest"][rows, j] = res.t_end_periods * period
         ended[rows, j] = np.isin(res.status, _STOP)
     return ended
 
