@@ -17,6 +17,7 @@ _EXPORTS = {
     "FrictionLaw": "model.friction", "StopZone": "model.friction", "Uniform": "model.friction",
     "FiniteJerkProfile": "model.profiles", "FourierProfile": "model.profiles",
     "PiecewiseConstantProfile": "model.profiles", "PolynomialProfile": "model.profiles",
+    "Profile": "model.profiles",
     "ThreePhaseProfile": "model.profiles",
     "Record": "model.scene", "Scene": "model.scene", "SIScale": "model.units",
     "load_scene": "io.scene_files", "scene_from_dict": "io.scene_files",

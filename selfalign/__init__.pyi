@@ -29,6 +29,7 @@ from .model.profiles import FiniteJerkProfile as FiniteJerkProfile
 from .model.profiles import FourierProfile as FourierProfile
 from .model.profiles import PiecewiseConstantProfile as PiecewiseConstantProfile
 from .model.profiles import PolynomialProfile as PolynomialProfile
+from .model.profiles import Profile as Profile
 from .model.profiles import ThreePhaseProfile as ThreePhaseProfile
 from .model.scene import Record as Record
 from .model.scene import Scene as Scene

@@ -84,3 +84,11 @@ def test_every_page_is_in_a_toctree():
         name = page.relative_to(REPO / "docs").with_suffix("").as_posix()
         if name != "index":
             assert re.search(rf"^{re.escape(name)}$", index, re.M), name
+
+
+def test_every_exported_name_has_an_api_page():
+    """The API reference (docs/reference/api.md, autosummary) lists every name `selfalign` exports."""
+    import selfalign
+
+    listed = set(re.findall(r"^   selfalign\.(\w+)$", (REPO / "docs/reference/api.md").read_text(), re.M))
+    assert listed == set(selfalign.__all__) - {"__version__"}

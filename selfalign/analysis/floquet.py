@@ -412,7 +412,7 @@ def floquet(profile_or_scene, method: str = "analytic", **options) -> FloquetRes
     """Floquet multipliers and monodromy matrix of the steady state (module docstring).
 
     ``profile_or_scene``: a profile (uniform surface, start at t = 0) or a Scene (its
-    surface, start state and phase).  Options (:data:`DEFAULT_OPTIONS`): saltation
+    surface, start state and phase).  Options (``DEFAULT_OPTIONS``): saltation
     and numeric ``max_periods``; numeric ``solver`` ("exact" | "moreau"), ``eps``,
     ``h`` (Moreau only).
 

@@ -216,7 +216,7 @@ def lyapunov_trace(profile_or_scene, v10: float, v20: float, periods: int, phase
     """V = (v1 - v2)^2 / 2 of two trajectories on a uniform surface (module docstring).
 
     Both start at time ``phase * dt`` (with a Scene, pass its ``phase``; only its
-    profile is used here, see :func:`scene_trace`).
+    profile is used here, see ``scene_trace``).
 
     The convergence analysis of Sect. 6.2 (eqs. 34-37, Fig. 13): two trajectories of
     v' in -Sign(v) - y''(t) (eq. 34) from the initial velocities v10 and v20, and the

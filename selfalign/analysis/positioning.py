@@ -160,7 +160,7 @@ def _simulate_settings(dt, dy, y2, y3, w, c_mu, n_entries, offset, max_periods, 
     (:class:`selfalign.progress.Progress` mode ``progress``) per chunk.  Under static/kinetic or
     Stribeck friction or with y'' ramps the steady state (vbar, v0, f) is simulated (no closed form);
     ``case`` stays that of the paper's Coulomb friction and profile (Table 1).  Entries run with the
-    most exact method that can simulate them (:func:`setting_method`)."""
+    most exact method that can simulate them (``setting_method``)."""
     ss = steady_state_grid(dt, dy, y2, y3)
     if friction.kind != "coulomb" or ramp > 0.0:
         sim = three_phase_simulated_steady_state(dt, dy, y2, y3, progress="quiet", friction=friction, ramp=ramp)
@@ -367,7 +367,7 @@ def positioning(profile: ThreePhaseProfile, *, w: float, c_mu: float, n_entries:
     ``friction``: a :class:`~selfalign.model.friction.FrictionLaw` (default: the paper's Coulomb
     friction); ``ramp``: y'' ramp time of the finite-jerk version of ``profile`` (0: the paper's).
     The entries run with the exact solver where it can simulate them, otherwise with Moreau
-    (:func:`setting_method`; ``method`` of the result says which).  ValueError if the profile's
+    (``setting_method``; ``method`` of the result says which).  ValueError if the profile's
     steady state does not move forward (vbar <= 0): then the mass never reaches the zone.
 
     Entries (Sect. 7.1, module docstring of ``selfalign.analysis.positioning``): on the
@@ -655,7 +655,7 @@ def map_iterations(profile: ThreePhaseProfile, *, w: float, c_mu: float, x_mu: f
     """Iterations of eq. (59) from x_0 = x_mu until x_k >= x_mu + p (x_f - x_mu), per level p.
 
     x_f is the fixed point (eq. 60).  NaN where eq. (59) is invalid at an
-    iterate before the level is reached (:func:`stick_map_validity`) or the
+    iterate before the level is reached (``stick_map_validity``) or the
     level is not reached within ``max_iter`` iterations.
     """
     p = _check_levels(p)

@@ -93,7 +93,7 @@ OBJECTIVE_SCALE = 1.0e4
 class SteadyState:
     """Steady state of the three-phase profile on a uniform surface.
 
-    Floats from :func:`steady_state`, arrays from :func:`steady_state_grid`.
+    Floats from :func:`steady_state`, arrays from ``steady_state_grid``.
     ``vbar``: average velocity (eq. 10); ``f`` = 1 / (c vbar^2) (eq. 11, inf
     where vbar = 0); ``case``: Table 1 (0 = non-physical, then every other
     field is NaN); ``v0``: x' at the profile's t = 0; ``v_max``: the largest

@@ -30,7 +30,7 @@ sticks pass x_s after finitely many steps and rest (:func:`stick_sequence`); no 
 What the map means, precisely: x_{n+1} is the position of the first stick
 event after t = 0 of a mass that is stuck at x_n at t = 0 (the start of the
 dwell).  :func:`stick_map_simulated` measures exactly that with a solver;
-:func:`stick_map_validity` tells where eq. (59) describes it.
+``stick_map_validity`` tells where eq. (59) describes it.
 """
 
 from __future__ import annotations
@@ -92,7 +92,7 @@ def stick_map(x_n, profile: ThreePhaseProfile, *, w: float, c_mu: float, x_mu: f
     Valid while the assumptions of Sect. 7.3 hold (the mass slips forward
     from t1, the velocity stays positive until after t2, and it sticks
     again inside the transition zone during the y3'' part); use
-    :func:`stick_map_validity` to check them.
+    ``stick_map_validity`` to check them.
     A mass stuck at x_n in the transition zone x_mu <= x_n < x_f (where
     mu_bar = y2) stays stuck through the dwell [0, t1), slips forward at t1,
     moves as the forced oscillator of eq. (42) through [t1, t2), switches
@@ -200,7 +200,7 @@ def stick_sequence(x0: float, profile: ThreePhaseProfile, *, w: float, c_mu: flo
     """The stick positions from a mass stuck at ``x0`` at t = 0 under static friction
     mu_s = ``ratio`` mu_k: eq. (59) while x_n < x_s (:func:`stick_map_slip_limit`), until a
     stick lands at or beyond x_s (rest), eq. (59) leaves its assumptions
-    (:func:`stick_map_validity`) or ``max_sticks`` steps are taken (at r = 1 the sticks
+    (``stick_map_validity``) or ``max_sticks`` steps are taken (at r = 1 the sticks
     accumulate at x_f and never reach it)."""
     x_s = stick_map_slip_limit(profile, w=w, c_mu=c_mu, x_mu=x_mu, ratio=ratio)
     kw = {"w": w, "c_mu": c_mu, "x_mu": x_mu}

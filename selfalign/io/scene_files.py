@@ -126,7 +126,7 @@ def _refuse_idle_keys(data: dict, source: str) -> None:
 
 
 def scene_from_dict(data: dict, source: str = "<scene>", name: str | None = None) -> Scene:
-    """Build a :class:`Scene` from a dict in the YAML layout, validating it first.
+    """Build a :class:`~selfalign.Scene` from a dict in the YAML layout, validating it first.
 
     ``data`` is checked against the JSON schema of scene files (``schemas/scene.schema.yaml``,
     shared with the Snakemake config), then for the physics (a feasible profile, finite

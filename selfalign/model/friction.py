@@ -5,7 +5,7 @@ Coefficients are dimensionless: the low-friction coefficient mu is the unit
 relative to the start of the high-friction region, xi = x - x_mu.
 
 The scalar formulas (:func:`coefficient`, :func:`transition_slope`, :func:`decide_mode`,
-:func:`level_position`, :func:`stick_limit`, :func:`static_stick_limit`, :func:`stribeck_factor`)
+:func:`level_position`, ``stick_limit``, :func:`static_stick_limit`, :func:`stribeck_factor`)
 are the only place the friction law is written; the classes below, :data:`stick_limits` and
 :data:`static_stick_limits` (elementwise) and the compiled event kernel call them.
 
@@ -93,7 +93,7 @@ def level_position(acceleration: float, w: float, c_mu: float) -> float:
 
     It solves eq. (40) for max|y''|, and for y2'' it is the fixed point x_f - x_mu =
     (b2 + y2'') / b1 - x_mu of the stick map (eq. 60).  No clamping: below 1 it lies before
-    the zone, above c_mu beyond it (:func:`stick_limit` clamps).
+    the zone, above c_mu beyond it (``stick_limit`` clamps).
     """
     return w * (acceleration - 1.0) / (c_mu - 1.0)
 
@@ -116,12 +116,12 @@ def stick_limit(max_acceleration: float, w: float, c_mu: float) -> float:
                     "enhanced friction models)")
 def static_stick_limit(rest_acceleration: float, ratio: float, w: float, c_mu: float) -> float:
     """x_stick_min - x_mu under static friction mu_s = ``ratio`` mu_k: permanent stick needs
-    r mu_bar >= max|y''| (``rest_acceleration``), so it is :func:`stick_limit` (eq. 41) of
+    r mu_bar >= max|y''| (``rest_acceleration``), so it is ``stick_limit`` (eq. 41) of
     max|y''| / r.  At r = 1 (the paper's Coulomb law) it is eq. (41) itself."""
     return stick_limit(rest_acceleration / ratio, w, c_mu)
 
 
-#: :func:`stick_limit` elementwise on broadcast arrays (the design search and the positioning grid).
+#: ``stick_limit`` elementwise on broadcast arrays (the design search and the positioning grid).
 stick_limits = np.vectorize(stick_limit, otypes=[float])
 #: :func:`static_stick_limit` elementwise on broadcast arrays (the positioning grid).
 static_stick_limits = np.vectorize(static_stick_limit, otypes=[float])
@@ -290,7 +290,7 @@ class StopZone:
         return np.asarray(values, dtype=float).reshape(x.shape)
 
     def x_stick_min(self, max_acceleration: float) -> float:
-        """First position where permanent stick is possible, eq. (41) (:func:`stick_limit`).
+        """First position where permanent stick is possible, eq. (41) (``stick_limit``).
 
         Returns ``-inf`` when max|y''| <= 1 (the mass can stick anywhere) and
         ``+inf`` when max|y''| > c_mu (it can stick nowhere).

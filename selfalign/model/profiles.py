@@ -49,7 +49,28 @@ def check_scale(name: str, value) -> float:
 
 
 class Profile:
-    """Base class: a periodic table displacement y(t) with period ``dt``."""
+    """Base class of the table motions: a periodic table displacement y(t) with period ``dt``.
+
+    Every profile the solvers accept derives from it: :class:`~selfalign.ThreePhaseProfile`,
+    :class:`~selfalign.PiecewiseConstantProfile`, :class:`~selfalign.FiniteJerkProfile`,
+    :class:`~selfalign.PolynomialProfile` and :class:`~selfalign.FourierProfile`.  A profile gives
+    y, y' and y'' at any time and the times where y'' switches.
+
+    Attributes
+    ----------
+    dt : float
+        The period Δt (dimensionless, Sect. 3.2).
+    kind : str
+        The profile's ``kind`` in scene files.
+    piecewise_constant : bool
+        True when y'' is constant between the times of ``switch_times``.
+
+    Examples
+    --------
+    >>> import selfalign as sa
+    >>> isinstance(sa.ThreePhaseProfile(dt=1.05, dy=0.084, y2=2.2, y3=0.9), sa.Profile)
+    True
+    """
 
     dt: float
     kind: str = "profile"
@@ -67,7 +88,7 @@ class Profile:
 
     @property
     def velocity_swing(self) -> float:
-        """max y' - min y': the velocity scale of the motion (|x'| <= it in steady state)."""
+        """The velocity scale of the motion, max y' - min y' (|x'| stays below it in steady state)."""
         raise NotImplementedError
 
     def params(self) -> dict:
@@ -410,7 +431,7 @@ class ThreePhaseProfile(PiecewiseConstantProfile):
 
     @property
     def feasibility(self) -> float:
-        """q of :func:`three_phase_feasibility`; case 0 is q > 1."""
+        """q of ``three_phase_feasibility``; case 0 is q > 1."""
         return float(three_phase_feasibility(self.dt, self.dy, self.y2, self.y3))
 
     def params(self) -> dict:

@@ -284,7 +284,7 @@ def simulate_batch(profiles, x0, v0=0.0, phase=0.0, *, profile_index=None, surfa
                    c_mu=None, levels=None, until: str = "rest", periods: int | None = None,
                    max_periods: int = 10_000, method: str = "exact", max_cycle: int = MAX_CYCLE,
                    fast_forward: bool = True, friction: FrictionLaw | None = None, **options) -> BatchResult:
-    """Many trajectories through the same compiled driver as :func:`simulate`.
+    """Many trajectories through the same compiled driver as :func:`~selfalign.simulate`.
 
     Every member is one run: its profile, start state and surface may differ, the method,
     its options, the horizon and the friction law are shared.  Per-member inputs are
@@ -297,7 +297,7 @@ def simulate_batch(profiles, x0, v0=0.0, phase=0.0, *, profile_index=None, surfa
     ----------
     profiles : Profile, list of Profile, or ProfileTable
         One profile, a sequence of profiles, or a
-        :class:`~selfalign.solvers.tables.ProfileTable` (vectorised three-phase sweeps); a
+        ``ProfileTable`` (vectorised three-phase sweeps); a
         batch runs one kind of profile (all piecewise-constant, or all Fourier).
     x0 : float or array_like
         Start position at time ``phase * dt`` (scalar or one per member).
@@ -335,7 +335,7 @@ def simulate_batch(profiles, x0, v0=0.0, phase=0.0, *, profile_index=None, surfa
     friction : FrictionLaw, optional
         The :class:`~selfalign.model.friction.FrictionLaw` of every member (default Coulomb).
     **options
-        Those of ``method`` (:mod:`selfalign.solvers.methods`).
+        Those of ``method`` (``selfalign.solvers.methods``).
 
     Returns
     -------

@@ -53,14 +53,14 @@ class Status(StrEnum):
     """
 
     HORIZON = "horizon"            #: the requested horizon was simulated, or no final outcome within max_periods
-    REST = "rest"                  #: stuck where mu_bar(x) >= max|y''|: at rest for good
+    REST = "rest"                  #: at rest for good, stuck where mu_bar(x) >= max|y''|
     ACCUMULATION = "accumulation"  #: stick positions converge geometrically to a limit
     NEVER_STOPS = "never_stops"    #: keeps moving without coming to rest (periodic or walking)
     ERROR = "error"                #: the solver could not continue; see message
 
 
 class Reason(IntEnum):
-    """Why a run ended: the detail behind its :class:`Status` (codes stored in results).
+    """Why a run ended: the detail behind its :class:`~selfalign.Status` (codes stored in results).
 
     Each reason belongs to one status (its ``status`` property) and has one message template
     (``selfalign.solvers.outcomes.MESSAGES``).  The compiled driver writes reason codes,
@@ -252,7 +252,7 @@ class EventKind(IntEnum):
 
     SWITCH = 0    #: the table acceleration jumps (a profile switch time)
     STICK = 1     #: slip ends in stick (relative velocity reaches zero and |y''| <= mu_bar)
-    SLIP = 2      #: stick ends: |y''| exceeds mu_bar
+    SLIP = 2      #: the stick ends, |y''| exceeds mu_bar
     REVERSAL = 3  #: the relative velocity passes through zero and the slip changes direction
     ZONE = 4      #: the body crosses x_mu or x_mu + w
 

@@ -26,8 +26,8 @@ class Trajectory:
     ``x_end``, ``v_end`` are the final state (for an accumulation, the limit); the end
     time is ``period_end * dt + tau_end``.  ``series`` maps the recorded names (``t``,
     ``x``, ``v``, ``y``, ``yd``, ``ydd``, ``friction``, ``mode``) to arrays; ``events`` is
-    a record array of :data:`~selfalign.solvers.records.EVENT_DTYPE` (absolute x) or
-    None; ``arcs`` the exact solver's arcs (:data:`~selfalign.solvers.records.ARC_DTYPE`,
+    a record array of ``EVENT_DTYPE`` (absolute x) or
+    None; ``arcs`` the exact solver's arcs (``ARC_DTYPE``,
     absolute x) when asked for; ``stats`` holds ``events``, ``steps``, ``cpu_time``;
     ``info`` outcome details (e.g. ``limit``, ``contraction`` of an accumulation,
     ``net_advance`` of a walk).  Like scipy's ``OdeResult``: the end state, a
@@ -162,11 +162,11 @@ class Trajectory:
 class BatchResult:
     """Per-member outcome of :func:`selfalign.simulate_batch` (arrays of shape (B,) unless noted).
 
-    ``records`` holds each member's :data:`~selfalign.solvers.records.MEMBER_DTYPE`
+    ``records`` holds each member's ``MEMBER_DTYPE``
     record (positions relative to ``origin``); the properties read it in absolute
     positions.  ``boundaries`` (B, nb): x_mu, x_mu + w, then the levels, absolute (NaN
     on a uniform surface); ``crossings`` (B, nb) of
-    :data:`~selfalign.solvers.records.CROSS_DTYPE`: the first time x reached each
+    ``CROSS_DTYPE``: the first time x reached each
     (period -1: never), the velocity there and the stick events at x >= x_mu before it.
     Each member ends with a :class:`~selfalign.Reason` and its :class:`~selfalign.Status`,
     the vocabulary of :class:`~selfalign.Trajectory`.
@@ -276,7 +276,7 @@ class BatchResult:
 
     @property
     def status(self) -> np.ndarray:
-        """Status codes (int8): the index of each member's status in ``list(Status)``."""
+        """The status code of each member (int8), the index of its status in ``list(Status)``."""
         return _REASON_TO_STATUS_CODE[self.records["reason"]]
 
     @property
@@ -373,7 +373,7 @@ class BatchResult:
         return {status.value: int(np.count_nonzero(codes == i)) for i, status in enumerate(_STATUSES)}
 
     def message(self, i: int) -> str:
-        """The message of member ``i`` (:data:`~selfalign.solvers.outcomes.MESSAGES`)."""
+        """The message of member ``i`` (``MESSAGES``)."""
         return outcome_message(self.records[i], float(self.origin[i]), self.options, self.until, self.horizon)
 
 

@@ -224,7 +224,7 @@ def design(spec: DesignSpec, *, progress: str = "auto") -> Design:
     """The guaranteed three-phase design of ``spec`` (module docstring) and its trade-offs.
 
     The trade-offs: ``front_time_error`` (the designs not dominated in closed-form process
-    time and end spread over mu, the first :data:`FRONT_SIMULATED` of them simulated: ``t_arrive``,
+    time and end spread over mu, the first ``FRONT_SIMULATED`` of them simulated: ``t_arrive``,
     ``error``, ``guaranteed``) and ``front_time_margin`` (closed-form process time against
     the robustness margin).
 
