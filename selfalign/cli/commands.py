@@ -220,7 +220,7 @@ def profile_options(command):
     options = [
         click.option("--dt", type=float, required=True, help="Period of the table motion."),
         click.option("--dy", type=float, required=True, help="Stroke of the table."),
-        click.option("--y2", type=float, required=True, help="Deceleration |y''| of the second phase."),
+        click.option("--y2", type=float, required=True, help="Deceleration (magnitude of y'') of the second phase."),
         click.option("--y3", type=float, required=True, help="Acceleration y'' of the third phase."),
         click.option("--si", type=(float, float, float), metavar="MU G L",
                      help="Give lengths in m, times in s, accelerations in m/s^2: friction coefficient MU, "

@@ -88,7 +88,7 @@ class Profile:
 
     @property
     def velocity_swing(self) -> float:
-        """The velocity scale of the motion, max y' - min y' (|x'| stays below it in steady state)."""
+        """The velocity scale of the motion, max y' - min y' (``|x'|`` stays below it in steady state)."""
         raise NotImplementedError
 
     def params(self) -> dict:

@@ -251,8 +251,8 @@ class EventKind(IntEnum):
     """
 
     SWITCH = 0    #: the table acceleration jumps (a profile switch time)
-    STICK = 1     #: slip ends in stick (relative velocity reaches zero and |y''| <= mu_bar)
-    SLIP = 2      #: the stick ends, |y''| exceeds mu_bar
+    STICK = 1     #: slip ends in stick (relative velocity reaches zero and ``|y''| <= mu_bar``)
+    SLIP = 2      #: the stick ends, ``|y''|`` exceeds mu_bar
     REVERSAL = 3  #: the relative velocity passes through zero and the slip changes direction
     ZONE = 4      #: the body crosses x_mu or x_mu + w
 
