@@ -14,7 +14,7 @@ from ..model import registry
 
 #: Every module that defines formulas (marked with :func:`selfalign.model.registry.formula`).
 FORMULA_MODULES = ("selfalign.model.arcs", "selfalign.model.friction", "selfalign.model.profiles",
-                   "selfalign.analysis.positioning", "selfalign.analysis.stick_map")
+                   "selfalign.model.optimal_motion", "selfalign.analysis.positioning", "selfalign.analysis.stick_map")
 
 HEADER = """# Equation index
 
