@@ -15,18 +15,21 @@ its stick level and sticks.  This costs a relative ~1e-12 of v*.
 Speed limit |y'| <= velocity_max (y' of zero mean, as a periodic y needs) and stroke limit
 max y - min y <= stroke_max (y's offset is free) (numerical): k copies of the fastest motion of period
 dt / k attain v* / k, the most any motion of period dt / k can, and meet the limits from k_fit on (speed
-and stroke shrink as 1 / k and 1 / k^2); k_fit = 1 returns the fastest motion.  Otherwise :func:`search`
-runs over motions of k < k_fit equal sub-cycles, each a forward slide from rest that opens with y'' = -a
-followed by a stick, every sub-cycle solved at period 1 (t -> k t / dt):
+and stroke shrink as 1 / k and 1 / k^2); k_fit = 1 returns the fastest motion.  Otherwise the search runs
+over motions made of sub-cycles, each a forward slide from rest that opens with y'' = -a followed by a
+stick, all at period 1 (t -> t / dt):
 
-* for a fixed slide time D a linear programme in y'' on a grid of cells (:func:`slide_programme`),
-  solved globally by HiGHS;
-* the best D per k by a scan and a bounded scalar search (:func:`best_slide`), the best k by doubling
-  and a golden-section search on the integers (the value taken unimodal in k);
-* the two best grid solutions polished by SLSQP over their arcs of constant y'' (:func:`polish`).
+* k < k_fit equal sub-cycles (:func:`search`): for a fixed slide time D a linear programme in y'' on a
+  grid of cells (:func:`slide_programme`), solved globally by HiGHS; the best D per k by a scan and a
+  bounded scalar search (:func:`best_slide`), the best k by doubling and a golden-section search on the
+  integers (the value taken unimodal in k); the two best grid solutions polished by SLSQP over their arcs
+  of constant y'' (:func:`polish`);
+* sub-cycles of unequal lengths (:func:`unequal`): k_fit and k_fit + 1 copies of the fastest motion and
+  the equal motions found, for at most :data:`JOINT_SUB_CYCLES` sub-cycles, stretched apart and polished
+  as one motion.
 
 The fastest of these and of the k_fit copies is chosen by the exact solver (:func:`steady_mean_velocity`),
-which must agree with the closed form of each candidate's slide.
+which must agree with the closed form of each candidate's slides.
 """
 
 from __future__ import annotations
@@ -64,6 +67,10 @@ LIMIT_SLACK = 1e-8
 #: Most sub-cycles per period the search builds: limits that need more are refused (a shorter period
 #: is the same motion with fewer pieces).
 MAX_SUB_CYCLES = 1024
+#: Most sub-cycles a motion may have for its sub-cycles to be stretched to unequal lengths and polished
+#: together (:func:`unequal`), and the stretches tried.
+JOINT_SUB_CYCLES = 4
+STRETCH = (0.3, 0.6)
 #: A limit is reported binding when the motion uses all but this fraction of it.
 BINDING = 1e-6
 #: Agreement required between the exact solver's mean velocity and the closed form of the motion.
@@ -89,7 +96,7 @@ class OptimalProfile:
     family : str
         The structure of one sub-cycle of the motion.
     sub_cycles : int
-        Equal sub-cycles per period.
+        Slides per period.
     peak_velocity : float
         The largest table speed.
     stroke : float
@@ -111,12 +118,13 @@ class OptimalProfile:
     binding : tuple of str
         The limits the motion uses to the full, among "accel_max", "velocity_max" and "stroke_max".
     family : str
-        The structure of one sub-cycle, its constant-y'' pieces in order: "bang" (y'' = -+a, the
-        part slides), "coast" (y'' = 0 while it slides), "ramp" (another level while it slides), "stick"
-        (y'' = +-r, the static limit, while it sticks), "dwell" (y'' = 0 while it sticks) or "hold"
-        (another level while it sticks); followed by " x k" for k > 1 sub-cycles.
+        The structure of each sub-cycle (a slide and the stick after it), its constant-y'' pieces in order:
+        "bang" (y'' = -+a, the part slides), "coast" (y'' = 0 while it slides), "ramp" (another level while
+        it slides), "stick" (y'' = +-r, the static limit, while it sticks), "dwell" (y'' = 0 while it
+        sticks) or "hold" (another level while it sticks).  k > 1 sub-cycles of one structure read
+        "structure x k" (their lengths may differ), of several structures the structures joined by " | ".
     sub_cycles : int
-        k, the equal sub-cycles per period.
+        k, the slides per period.
     peak_velocity : float
         max ``|y'|``.
     stroke : float
@@ -282,44 +290,42 @@ def fastest_pieces(period: float, accel_max: float, ratio: float, margin: float)
     return np.array([0.0, t1, t1 + t2, period]), np.array([-a, a, r])
 
 
-def _repeat(breaks: np.ndarray, accels: np.ndarray, k: int, period: float) -> tuple[np.ndarray, np.ndarray]:
-    """The pieces of ``k`` copies of a sub-cycle (breaks from 0 to period / k) filling [0, period]; a break
-    that rounding would put an ulp before the previous one is moved onto it (a piece of length 0, which the
-    profile drops)."""
-    sub = period / k
-    inner = np.concatenate([j * sub + breaks[:-1] for j in range(k)])
-    return np.maximum.accumulate(np.concatenate([inner, [period]])), np.tile(accels, k)
-
-
-def _family(levels, durations, sliding, a: float, r: float, k: int) -> str:
-    """The ``family`` name of OptimalProfile for one sub-cycle's arcs (zero-length arcs left out)."""
-    names = []
-    for level, duration, slide in zip(levels, durations, sliding):
-        if duration > 0.0:
-            top, words = (a, ("bang", "coast", "ramp")) if slide else (r, ("stick", "dwell", "hold"))
-            near = 1e-9 * top
-            names.append(words[0] if abs(abs(level) - top) <= near else words[1] if abs(level) <= near else words[2])
-    return "-".join(names) + (f" x {k}" if k > 1 else "")
+def _family(arcs: Arcs, a: float, r: float) -> str:
+    """The ``family`` name of OptimalProfile: the names of the arcs of each sub-cycle (a slide and the stick
+    after it), joined by "-"; "name x k" when all k sub-cycles have one name, else the names joined by
+    " | "."""
+    words = []
+    for level, slide in zip(arcs.levels.tolist(), arcs.sliding.tolist()):
+        top, names = (a, ("bang", "coast", "ramp")) if slide else (r, ("stick", "dwell", "hold"))
+        near = 1e-9 * top
+        words.append(names[0] if abs(abs(level) - top) <= near else names[1] if abs(level) <= near else names[2])
+    starts = [first for first, _ in arcs.slides()] + [arcs.levels.size]
+    cycles = ["-".join(words[i:j]) for i, j in zip(starts, starts[1:])]
+    return cycles[0] + (f" x {len(cycles)}" if len(cycles) > 1 else "") if len(set(cycles)) == 1 else " | ".join(cycles)
 
 
 @dataclass(frozen=True)
 class Arcs:
-    """One sub-cycle as arcs of constant y'': their ``levels``, ``durations`` and whether the part slides
-    forward on each (``sliding``: the slide first, then the stick)."""
+    """A motion as arcs of constant y'': their ``levels``, ``durations`` (summing to its period) and whether
+    the part slides forward on each (``sliding``).  Each run of sliding arcs is one slide from rest, the
+    first arc opens a slide and every slide is followed by stick arcs: a sub-cycle is a slide and the stick
+    after it."""
 
     levels: np.ndarray
     durations: np.ndarray
     sliding: np.ndarray
 
-    @property
-    def slide_arcs(self) -> int:
-        return int(np.count_nonzero(self.sliding))
+    def slides(self) -> list[tuple[int, int]]:
+        """(first, last + 1) arc indices of every slide."""
+        edges = np.flatnonzero(np.diff(np.concatenate([[0], self.sliding.astype(int), [0]])))
+        return list(zip(edges[::2].tolist(), edges[1::2].tolist()))
 
     def quantities(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, float]:
-        """(u, y, y_turn, x_slide, area): y' at the arc starts and the end (zero mean), y there (y(0) = 0),
-        y at each arc's point nearest to where y' = 0 (its extreme within the arc), x' at the boundaries of
-        the slide arcs (from rest) and int x' dt over the slide."""
-        d, level, s = self.durations, self.levels, self.slide_arcs
+        """(u, y, y_turn, x_end, area): y' at the arc starts and the end (zero mean), y there (y(0) = 0),
+        y at each arc's point nearest to where y' = 0 (its extreme within the arc), x' at the end of each
+        arc (0 on stick arcs; x' = -int (y'' + 1) dt from the start of its slide) and int x' dt over the
+        slides."""
+        d, level = self.durations, self.levels
         gained = np.concatenate([[0.0], np.cumsum(level * d)])
         moved = np.concatenate([[0.0], np.cumsum(gained[:-1] * d + 0.5 * level * d * d)])
         start = -moved[-1] / np.sum(d)
@@ -328,9 +334,12 @@ class Arcs:
         with np.errstate(divide="ignore", invalid="ignore"):
             turn = np.clip(np.where(level != 0.0, -u[:-1] / level, 0.0), 0.0, d)
         y_turn = y[:-1] + u[:-1] * turn + 0.5 * level * turn * turn
-        x_slide = np.concatenate([[0.0], -np.cumsum((level[:s] + 1.0) * d[:s])])
-        area = float(np.sum((x_slide[:-1] + x_slide[1:]) * d[:s]) / 2.0)
-        return u, y, y_turn, x_slide, area
+        x_end, area = np.zeros(d.size), 0.0
+        for first, last in self.slides():
+            ends = -np.cumsum((level[first:last] + 1.0) * d[first:last])
+            x_end[first:last] = ends
+            area += float(np.sum((np.concatenate([[0.0], ends[:-1]]) + ends) * d[first:last]) / 2.0)
+        return u, y, y_turn, x_end, area
 
     def merged(self) -> Arcs:
         """Zero-length arcs dropped and neighbours of one level and mode joined."""
@@ -343,6 +352,13 @@ class Arcs:
             else:
                 levels.append(level), durations.append(duration), sliding.append(slide)
         return Arcs(np.array(levels), np.array(durations), np.array(sliding, dtype=bool))
+
+    def repeated(self, factors) -> Arcs:
+        """Copies of this motion one after the other, the i-th with its durations times ``factors[i]`` (y''
+        unchanged: the copy is the motion on the time scale factors[i], still ending its slide at rest)."""
+        factors = np.asarray(factors, dtype=float)
+        return Arcs(np.tile(self.levels, factors.size), np.outer(factors, self.durations).ravel(),
+                    np.tile(self.sliding, factors.size))
 
 
 def slide_programme(slide: float, a: float, r: float, velocity_max: float | None, stroke_max: float | None,
@@ -428,59 +444,64 @@ def _cells_to_arcs(levels, durations, sliding, tol: float) -> Arcs:
                 np.array([g[2] for g in groups], dtype=bool))
 
 
-def _solved_durations(levels, durations, slide_arcs: int, solve, period: float, margin: float) -> np.ndarray:
-    """``durations`` with the entries ``solve`` (a first slide arc, a later slide arc, a stick arc) solved
-    so that they sum to ``period``, y'' has zero mean and the slide ends at x' = ``margin``, exactly up to
-    rounding (Cramer's rule on the three linear equations); NaN where the equations are singular."""
-    d = np.array(durations, dtype=float)
+def _solved_durations(arcs: Arcs, solve, period: float, margin: float) -> np.ndarray:
+    """The durations of ``arcs`` with the entries ``solve`` (:func:`_dependent`) solved so that they sum to
+    ``period``, y'' has zero mean and every slide ends at x' = ``margin``: linear equations in the
+    durations, exact up to rounding (NaN where they are singular)."""
+    d, level = arcs.durations.copy(), arcs.levels
+    rows = [np.ones(d.size), level]
+    for first, last in arcs.slides():
+        row = np.zeros(d.size)
+        row[first:last] = -(level[first:last] + 1.0)
+        rows.append(row)
+    matrix = np.array(rows)
     rest = np.ones(d.size, dtype=bool)
     rest[list(solve)] = False
-    slide = np.arange(d.size) < slide_arcs
-    rhs = [period - float(np.sum(d[rest])), -float(np.sum((levels * d)[rest])),
-           -margin - float(np.sum(((levels + 1.0) * d)[rest & slide]))]
-    matrix = [[1.0, 1.0, 1.0], [float(levels[i]) for i in solve],
-              [float(levels[i]) + 1.0 if i < slide_arcs else 0.0 for i in solve]]
-
-    def det(m):
-        return (m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
-                + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]))
-    whole = det(matrix)
-    for column, index in enumerate(solve):
-        swapped = [[rhs[i] if j == column else matrix[i][j] for j in range(3)] for i in range(3)]
-        d[index] = det(swapped) / whole if whole != 0.0 else float("nan")
+    rhs = np.array([period, 0.0] + [margin] * (len(rows) - 2)) - matrix[:, rest] @ d[rest]
+    try:
+        d[list(solve)] = np.linalg.solve(matrix[:, list(solve)], rhs)
+    except np.linalg.LinAlgError:
+        d[list(solve)] = np.nan
     return d
 
 
 def _dependent(arcs: Arcs) -> list[int]:
-    """The arcs whose durations :func:`_solved_durations` solves: the first and the last slide arc and the
-    longest stick arc."""
-    s = arcs.slide_arcs
-    return [0, s - 1, s + int(np.argmax(arcs.durations[s:]))]
+    """The arcs whose durations :func:`_solved_durations` solves: the last arc of every slide, the first arc
+    and the longest stick arc."""
+    stuck = np.flatnonzero(~arcs.sliding)
+    return [last - 1 for _, last in arcs.slides()] + [0, int(stuck[np.argmax(arcs.durations[stuck])])]
 
 
 def _tidy_stick(arcs: Arcs, r: float, velocity_max: float | None, stroke_max: float | None) -> Arcs:
-    """``arcs`` with the stick rewritten as ramp at +r, dwell, ramp at +r, the dwell level L keeping
-    int y' dt over the stick (so the slide and y's centring do not change; an L within 1e-9 of the speed
-    gain of one of the stick's end speeds is set to it, dropping a vanishing ramp), where L lies between
-    those speeds and the limits still hold; else ``arcs``."""
-    u, _, _, _, _ = arcs.quantities()
-    s = arcs.slide_arcs
-    d, level = arcs.durations[s:], arcs.levels[s:]
-    first, last = float(u[s]), float(u[-1])
-    area = float(np.sum(u[s:-1] * d + 0.5 * level * d * d))
-    total = float(np.sum(d))
-    dwell = total - (last - first) / r
-    if dwell <= 1e-12 * total:
-        return arcs
-    height = (area - (last * last - first * first) / (2.0 * r)) / dwell
-    near = 1e-9 * (last - first)
-    height = last if abs(height - last) <= near else first if abs(height - first) <= near else height
-    if not first <= height <= last:
-        return arcs
-    up, down = (height - first) / r, (last - height) / r
-    tidy = Arcs(np.concatenate([arcs.levels[:s], [r, 0.0, r]]),
-                np.concatenate([arcs.durations[:s], [up, total - up - down, down]]),
-                np.concatenate([arcs.sliding[:s], [False] * 3])).merged()
+    """``arcs`` with every stick that regains speed rewritten as ramp at +r, dwell, ramp at +r, the dwell
+    level L keeping int y' dt over the stick (so the slides and y's centring do not change; an L within 1e-9
+    of the speed gain of one of the stick's end speeds is set to it, dropping a vanishing ramp), where L lies
+    between those speeds and the limits still hold; else ``arcs``."""
+    u = arcs.quantities()[0]
+    levels, durations, sliding = [], [], []
+    edges = [first for first, _ in arcs.slides()] + [arcs.levels.size]
+    for (first, last), following in zip(arcs.slides(), edges[1:]):
+        levels += arcs.levels[first:last].tolist()
+        durations += arcs.durations[first:last].tolist()
+        sliding += [True] * (last - first)
+        d, level = arcs.durations[last:following], arcs.levels[last:following]
+        low, high = float(u[last]), float(u[following])
+        area = float(np.sum(u[last:following] * d + 0.5 * level * d * d))
+        total = float(np.sum(d))
+        dwell = total - (high - low) / r
+        height = (area - (high * high - low * low) / (2.0 * r)) / dwell if dwell > 1e-12 * total else np.nan
+        near = 1e-9 * (high - low)
+        height = high if abs(height - high) <= near else low if abs(height - low) <= near else height
+        if low <= height <= high:
+            up, down = (height - low) / r, (high - height) / r
+            levels += [r, 0.0, r]
+            durations += [up, total - up - down, down]
+            sliding += [False] * 3
+        else:
+            levels += level.tolist()
+            durations += d.tolist()
+            sliding += [False] * (following - last)
+    tidy = Arcs(np.array(levels), np.array(durations), np.array(sliding, dtype=bool)).merged()
     return tidy if _meets(tidy, velocity_max, stroke_max) else arcs
 
 
@@ -491,55 +512,107 @@ def _meets(arcs: Arcs, velocity_max: float | None, stroke_max: float | None) -> 
             and (stroke_max is None or float(np.max(every) - np.min(every)) <= stroke_max))
 
 
+def _batch(arcs: Arcs, levels: np.ndarray, durations: np.ndarray, solve, period: float, margin: float):
+    """:meth:`Arcs.quantities` for rows of ``levels`` and ``durations`` (the pattern of slides of ``arcs``),
+    the durations ``solve`` first solved as :func:`_solved_durations` does: (durations, u, y, y_turn, x_end,
+    area), one row each."""
+    rows = levels.shape[0]
+    slides = arcs.slides()
+    matrix = np.zeros((rows, 2 + len(slides), levels.shape[1]))
+    matrix[:, 0, :], matrix[:, 1, :] = 1.0, levels
+    for j, (first, last) in enumerate(slides):
+        matrix[:, 2 + j, first:last] = -(levels[:, first:last] + 1.0)
+    rest = np.ones(levels.shape[1], dtype=bool)
+    rest[list(solve)] = False
+    target = np.array([period, 0.0] + [margin] * len(slides))
+    rhs = target - np.einsum("rqm,rm->rq", matrix[:, :, rest], durations[:, rest])
+    durations = durations.copy()
+    with np.errstate(all="ignore"):
+        try:
+            durations[:, list(solve)] = np.linalg.solve(matrix[:, :, list(solve)], rhs[:, :, None])[:, :, 0]
+        except np.linalg.LinAlgError:
+            durations[:, list(solve)] = np.nan
+        zero = np.zeros((rows, 1))
+        gained = np.concatenate([zero, np.cumsum(levels * durations, axis=1)], axis=1)
+        moved = np.concatenate([zero, np.cumsum(gained[:, :-1] * durations + 0.5 * levels * durations**2, axis=1)],
+                               axis=1)
+        start = -moved[:, -1:] / period
+        u = start + gained
+        y = moved + start * np.concatenate([zero, np.cumsum(durations, axis=1)], axis=1)
+        turn = np.clip(np.where(levels != 0.0, -u[:, :-1] / levels, 0.0), 0.0, durations)
+        y_turn = y[:, :-1] + u[:, :-1] * turn + 0.5 * levels * turn * turn
+        x_end, area = np.zeros(levels.shape), np.zeros(rows)
+        for first, last in slides:
+            ends = -np.cumsum((levels[:, first:last] + 1.0) * durations[:, first:last], axis=1)
+            x_end[:, first:last] = ends
+            begins = np.concatenate([zero, ends[:, :-1]], axis=1)
+            area += np.sum((begins + ends) * durations[:, first:last], axis=1) / 2.0
+    return durations, u, y, y_turn, x_end, area
+
+
 def _slsqp(arcs: Arcs, a: float, r: float, velocity_max: float | None, stroke_max: float | None,
            margin: float, slack: float) -> Arcs:
-    """SLSQP over the levels and durations of the arcs of a sub-cycle of period 1 (:func:`polish`); the
-    durations of :func:`_dependent` are solved from the others, so that the equalities hold at every
-    iterate."""
+    """SLSQP over the levels and durations of ``arcs`` (:func:`polish`); the durations of
+    :func:`_dependent` are solved from the others, so that the equalities hold at every iterate.  The
+    objective, the constraints and their forward differences are evaluated in one batch per point."""
     from scipy.optimize import minimize
 
-    m, s = arcs.levels.size, arcs.slide_arcs
-    period, speed, length = 1.0, a, a
+    m, period = arcs.levels.size, float(np.sum(arcs.durations))
+    speed, length = a * period, a * period * period
     v_lim = None if velocity_max is None else velocity_max * (1.0 - slack)
     s_lim = None if stroke_max is None else stroke_max * (1.0 - slack)
     solve = _dependent(arcs)
     free = np.setdiff1d(np.arange(m), solve)
     f = free.size
+    inner = np.array([i for first, last in arcs.slides() for i in range(first, last - 1)], dtype=int)
 
-    def unpack(z) -> Arcs:
-        levels = z[f:f + m] * a
-        durations = np.zeros(m)
-        durations[free] = z[:f] * period
-        return Arcs(levels, _solved_durations(levels, durations, s, solve, period, margin), arcs.sliding)
-
-    def inequalities(z):
-        trial = unpack(z)
-        u, y, y_turn, x_slide, _ = trial.quantities()
-        out = [trial.durations[solve] / period, (x_slide[1:-1] - margin) / speed]
+    def evaluate(z_rows):
+        durations = np.tile(arcs.durations, (z_rows.shape[0], 1))
+        durations[:, free] = z_rows[:, :f] * period
+        durations, u, y, y_turn, x_end, area = _batch(arcs, z_rows[:, f:f + m] * a, durations, solve, period, margin)
+        out = [durations[:, solve] / period, (x_end[:, inner] - margin) / speed]
         if v_lim is not None:
-            out += [(v_lim - u) / speed, (v_lim + u) / speed]
+            out += [1.0 - u / v_lim, 1.0 + u / v_lim]
         if s_lim is not None:
-            every = np.concatenate([y, y_turn]) / length
-            low, high = z[f + m], z[f + m + 1]
-            out += [high - every, every - low, [s_lim / length - (high - low)]]
-        return np.nan_to_num(np.concatenate(out), nan=-1.0)
+            every = np.concatenate([y, y_turn], axis=1) / s_lim
+            low, high = z_rows[:, f + m:f + m + 1], z_rows[:, f + m + 1:f + m + 2]
+            out += [high - every, every - low, 1.0 - (high - low)]
+        return (np.nan_to_num(-area / length, nan=0.0), np.nan_to_num(np.concatenate(out, axis=1), nan=-1.0),
+                durations)
 
     _, y, y_turn, _, _ = arcs.quantities()
-    every = np.concatenate([y, y_turn]) / length
+    every = np.concatenate([y, y_turn]) / (length if s_lim is None else s_lim)
     z0 = np.concatenate([arcs.durations[free] / period, arcs.levels / a, [every.min(), every.max()]])
     lower = np.concatenate([np.zeros(f), np.where(arcs.sliding, -1.0, -r / a), [-np.inf] * 2])
     upper = np.concatenate([np.ones(f), np.where(arcs.sliding, 1.0, r / a), [np.inf] * 2])
-    lower[f] = upper[f] = -1.0
-    lower[f + s] = 0.0
-    res = minimize(lambda z: -np.nan_to_num(unpack(z).quantities()[4], nan=-np.inf) / length,
-                   np.clip(z0, lower, upper), method="SLSQP", bounds=list(zip(lower, upper)),
-                   constraints=[{"type": "ineq", "fun": inequalities}], options={"maxiter": 500, "ftol": 1e-15})
-    return unpack(np.clip(res.x, lower, upper))
+    for first, last in arcs.slides():
+        lower[f + first] = upper[f + first] = -1.0          # the slide opens at -a: the part breaks away
+        if last < m:
+            lower[f + last] = 0.0                          # it comes to rest on a stick arc of y'' in [0, r]
+    memo = {}
+
+    def at(z):
+        key = z.tobytes()
+        if key not in memo:
+            step = 1.49e-8 * np.maximum(np.abs(z), 1.0)
+            step = np.where(z + step > upper, -step, step)    # stay within the bounds
+            objective, constraints, _ = evaluate(np.vstack([z, z + np.diag(step)]))
+            memo.clear()
+            memo[key] = (objective[0], constraints[0], (objective[1:] - objective[0]) / step,
+                         ((constraints[1:] - constraints[0]) / step[:, None]).T)
+        return memo[key]
+    res = minimize(lambda z: at(z)[0], np.clip(z0, lower, upper), jac=lambda z: at(z)[2], method="SLSQP",
+                   bounds=list(zip(lower, upper)),
+                   constraints=[{"type": "ineq", "fun": lambda z: at(z)[1], "jac": lambda z: at(z)[3]}],
+                   options={"maxiter": 200, "ftol": 1e-13})
+    z = np.clip(res.x, lower, upper)
+    return Arcs(z[f:f + m] * a, evaluate(z[None, :])[2][0], arcs.sliding)
 
 
 def _clean(arcs: Arcs, a: float, r: float, drop: float, snap: float) -> Arcs | None:
-    """``arcs`` without those shorter than ``drop`` times the sub-cycle, levels within ``snap`` (relative)
-    of 0, +-a (sliding) or +-r (stuck) set to it; None if the slide or the stick is left with too few arcs."""
+    """``arcs`` without those shorter than ``drop`` times the period, levels within ``snap`` (relative) of
+    0, +-a (sliding) or +-r (stuck) set to it; None unless the first arc opens a slide, every slide opens at
+    -a with at least two arcs and a stick follows the last."""
     period = float(np.sum(arcs.durations))
     keep = arcs.durations > drop * period
     levels = arcs.levels[keep].copy()
@@ -550,32 +623,38 @@ def _clean(arcs: Arcs, a: float, r: float, drop: float, snap: float) -> Arcs | N
             if abs(levels[i] - target) <= snap * top:
                 levels[i] = target
     out = Arcs(levels, arcs.durations[keep], sliding).merged()
-    if out.slide_arcs < 2 or out.slide_arcs == out.levels.size or out.levels[0] != -a:
+    slides = out.slides()
+    if not slides or slides[0][0] != 0 or slides[-1][1] == out.levels.size:
+        return None
+    if any(last - first < 2 or out.levels[first] != -a for first, last in slides):
         return None
     return out
 
 
 def polish(arcs: Arcs, a: float, r: float, velocity_max: float | None, stroke_max: float | None, margin: float,
            slack: float) -> Arcs | None:
-    """The arcs of a grid solution of period 1 (:func:`slide_programme`) made exact: SLSQP over their levels
-    and durations maximises int x' dt over the slide with the limits held within a fraction ``slack`` of
-    them, the sub-cycle's length, zero-mean y'' and the slide's end at x' = ``margin`` (never touched
-    before) exact by :func:`_solved_durations`; the first arc stays at -a and the first stick arc between 0
-    and r (the part comes to rest on it).  The grid leaves short arcs at intermediate levels where y''
-    switches within a cell: arcs shorter than 1e-6 of the sub-cycle are dropped and levels within 1e-6 of 0,
-    +-a or +-r set to it, and SLSQP runs again.  Then :func:`_tidy_stick` writes the stick in its canonical
-    form.  None if SLSQP ends elsewhere than at a point meeting the limits."""
+    """A motion of one or more slides (a grid solution of :func:`slide_programme`, or copies of one) made
+    exact: SLSQP over its arcs' levels and durations maximises int x' dt over the slides with the limits held
+    within a fraction ``slack`` of them, and the period, zero-mean y'' and every slide's end at x' =
+    ``margin`` (never touched before) exact by :func:`_solved_durations`; every slide opens at -a and comes
+    to rest on a stick arc between 0 and r.  The grid leaves short arcs at intermediate levels where y''
+    switches within a cell: arcs shorter than 1e-6 of the period are dropped and levels within 1e-6 of 0,
+    +-a or +-r set to it, and SLSQP runs again (with 10 and 100 times the slack if it ends outside a limit).
+    Then :func:`_tidy_stick` writes the sticks in their canonical form.  None if SLSQP ends elsewhere than at
+    a point meeting the limits."""
+    period = float(np.sum(arcs.durations))
     first = _clean(_slsqp(arcs, a, r, velocity_max, stroke_max, margin, slack), a, r, 1e-6, 1e-6)
-    second = None if first is None else _clean(_slsqp(first, a, r, velocity_max, stroke_max, margin, slack), a, r,
-                                               1e-12, 0.0)
-    if second is None:
-        return None
-    exact = Arcs(second.levels, _solved_durations(second.levels, second.durations, second.slide_arcs,
-                                                  _dependent(second), 1.0, margin), second.sliding)
-    if not (np.all(exact.durations >= 0.0) and _meets(exact, velocity_max, stroke_max)
-            and np.all(exact.quantities()[3][1:] > 0.0)):
-        return None
-    return _tidy_stick(exact, r, velocity_max, stroke_max).merged()
+    for keep_free in (slack, 10.0 * slack, 100.0 * slack):     # SLSQP may end a little outside a constraint
+        second = None if first is None else _clean(_slsqp(first, a, r, velocity_max, stroke_max, margin, keep_free),
+                                                   a, r, 1e-12, 0.0)
+        if second is None:
+            return None
+        exact = Arcs(second.levels, _solved_durations(second, _dependent(second), period, margin), second.sliding)
+        if (np.all(exact.durations >= 0.0) and _meets(exact, velocity_max, stroke_max)
+                and np.all(exact.quantities()[3][exact.sliding] > 0.0)):
+            return _tidy_stick(exact, r, velocity_max, stroke_max).merged()
+        first = second
+    return None
 
 
 def best_slide(a: float, r: float, velocity_max: float | None, stroke_max: float | None) -> tuple[float, float]:
@@ -599,9 +678,9 @@ def best_slide(a: float, r: float, velocity_max: float | None, stroke_max: float
 
 
 def search(a: float, r: float, velocity_max: float | None, stroke_max: float | None, k_fit: int,
-           polished: int = 2) -> list[tuple[int, Arcs]]:
-    """Polished sub-cycles (k, arcs of period 1) for the ``polished`` best k < ``k_fit``, the limits those
-    of a period 1 (module docstring).
+           polished: int = 2) -> list[Arcs]:
+    """Polished motions of period 1 of k < ``k_fit`` equal sub-cycles, for the ``polished`` best k, the
+    limits those of a period 1 (module docstring).
 
     Each sub-cycle is solved at period 1 (t -> k t, x, y -> k^2 x: the limits become k velocity_max and
     k^2 stroke_max, the mean velocity k vbar), so that every linear programme has the same scale.  k = 1,
@@ -637,11 +716,35 @@ def search(a: float, r: float, velocity_max: float | None, stroke_max: float | N
     out = []
     for k in sorted((k for k in values if values[k] > 0.0), key=values.get, reverse=True)[:polished]:
         _, arcs = slide_programme(slides[k], a, r, *scaled(k), FINE_CELLS)
-        slack = LIMIT_SLACK + 64.0 * np.finfo(float).eps * k * k
-        exact = None if arcs is None else polish(arcs, a, r, *scaled(k), ARRIVAL_MARGIN * a * k, slack)
+        exact = None if arcs is None else polish(arcs, a, r, *scaled(k), ARRIVAL_MARGIN * a * k, _slack(k))
         if exact is not None:
-            out.append((k, exact))
+            out.append(exact.repeated(np.full(k, 1.0 / k)))
     return out
+
+
+def unequal(motion: Arcs, a: float, r: float, velocity_max: float | None, stroke_max: float | None) -> list[Arcs]:
+    """``motion`` (period 1, k equal sub-cycles, 2 <= k <= :data:`JOINT_SUB_CYCLES`) with its sub-cycles
+    stretched by 1 + s (2 i / (k - 1) - 1), i = 0 .. k - 1, for each s of :data:`STRETCH`, each polished as
+    one motion of period 1: sub-cycles of unequal length beat equal ones where a limit binds on the whole
+    period (a stroke limit lets a long slide pair with a short one, Sect. "The searched family" of the page),
+    and equal lengths are a stationary point of the polish, so it needs the push."""
+    k = len(motion.slides())
+    if not 2 <= k <= JOINT_SUB_CYCLES:
+        return []
+    first, last = 0, motion.levels.size // k
+    one = Arcs(motion.levels[first:last], motion.durations[first:last] * k, motion.sliding[first:last])
+    out = []
+    for stretch in STRETCH:
+        factors = (1.0 + stretch * (2.0 * np.arange(k) / (k - 1) - 1.0)) / k
+        exact = polish(one.repeated(factors), a, r, velocity_max, stroke_max, ARRIVAL_MARGIN * a, _slack(k))
+        if exact is not None:
+            out.append(exact)
+    return out
+
+
+def _slack(k: int) -> float:
+    """The fraction of the limits the polish of a motion of k sub-cycles keeps free (:data:`LIMIT_SLACK`)."""
+    return LIMIT_SLACK + 64.0 * np.finfo(float).eps * k * k
 
 
 def optimal_profile(period, accel_max, *, stroke_max=None, velocity_max=None, friction=None) -> OptimalProfile:
@@ -652,10 +755,10 @@ def optimal_profile(period, accel_max, *, stroke_max=None, velocity_max=None, fr
     (:func:`optimal_vbar`), and y'' = -a, +a, +r attains it: the table pulls back at -a while the part
     slides forward, catches up at +a as the part comes to rest, then regains its speed at the static limit
     r with the part stuck.  That motion is returned whenever it meets the other limits.  Otherwise the
-    search of the module ``selfalign.analysis.optimal_motion`` runs (equal sub-cycles, each a slide from
-    rest and a stick; a linear programme per sub-cycle count and slide time, polished): its result is the
-    best it finds, not proven optimal.  The derivation, the proof and the search are on the page
-    docs/explanation/optimal-motion.md.
+    search of the module ``selfalign.analysis.optimal_motion`` runs (sub-cycles, each a slide from rest and
+    a stick: equal ones by a linear programme per sub-cycle count and slide time, unequal ones from them,
+    all polished): its result is the best it finds, not proven optimal.  The derivation, the proof and the
+    search are on the page docs/explanation/optimal-motion.md.
 
     The limits bear on the table motion only through y'': y' is taken with zero mean (y periodic) and y's
     range centred on 0.  Under static friction (r > 1) the returned motion leaves the part a speed of
@@ -732,29 +835,33 @@ def optimal_profile(period, accel_max, *, stroke_max=None, velocity_max=None, fr
                          f"{period!r} and accel_max = {a!r}: the fastest motion's speed {speed:.6g} and stroke "
                          f"{stroke:.6g} would have to shrink {k_fit} times (more than {MAX_SUB_CYCLES} sub-cycles per "
                          f"period); choose a shorter period (speed and stroke shrink with it and its square)")
-    while not _fits(_built(_fastest_arcs(k_fit, a, r), k_fit, period), velocity_max, stroke_max):
+    while not _fits(_built(_fastest_arcs(k_fit, a, r), period), velocity_max, stroke_max):
         k_fit += 1
-    candidates = [(k_fit, _fastest_arcs(k_fit, a, r))]
+    candidates = [_fastest_arcs(k_fit, a, r)]
     if k_fit > 1:
         unit_v = None if velocity_max is None else velocity_max / period
         unit_s = None if stroke_max is None else stroke_max / (period * period)
-        candidates += search(a, r, unit_v, unit_s, k_fit)
+        equal = search(a, r, unit_v, unit_s, k_fit)
+        candidates += equal
+        for motion in [candidates[0], _fastest_arcs(k_fit + 1, a, r)] + equal:
+            candidates += unequal(motion, a, r, unit_v, unit_s)
     return _choose(candidates, period, a, r, law, velocity_max, stroke_max)
 
 
 def _fastest_arcs(k: int, a: float, r: float) -> Arcs:
-    """The fastest motion (:func:`fastest_pieces`) as the arcs of a sub-cycle of period 1 of a motion with
-    ``k`` sub-cycles per period, its arrival margin that of the whole period."""
+    """k copies of the fastest motion (:func:`fastest_pieces`) of period 1 / k, the arrival margin that of
+    the whole period 1."""
     breaks, accels = fastest_pieces(1.0, a, r, ARRIVAL_MARGIN * a * k)
-    return Arcs(accels, np.diff(breaks), np.array([True, True, False]))
+    return Arcs(accels, np.diff(breaks), np.array([True, True, False])).repeated(np.full(k, 1.0 / k))
 
 
-def _built(arcs: Arcs, k: int, period: float) -> tuple[np.ndarray, np.ndarray, float, float, float, float]:
-    """(breaks, accels, y_start, yd_start, peak_velocity, stroke) of ``k`` copies of the sub-cycle ``arcs``
-    (period 1) scaled to fill ``period``: durations times period / k, y'' unchanged."""
-    sub = np.concatenate([[0.0], np.cumsum(arcs.durations)]) * (period / k)
-    breaks, accels = _repeat(sub, arcs.levels, k, period)
-    return (breaks, accels, *centred_motion(breaks, accels))
+def _built(arcs: Arcs, period: float) -> tuple[np.ndarray, np.ndarray, float, float, float, float]:
+    """(breaks, accels, y_start, yd_start, peak_velocity, stroke) of the motion ``arcs`` (period 1) scaled to
+    ``period``: durations times period, y'' unchanged."""
+    breaks = np.concatenate([[0.0], np.cumsum(arcs.durations) * period])
+    breaks[-1] = period
+    breaks = np.minimum(breaks, period)
+    return (breaks, arcs.levels, *centred_motion(breaks, arcs.levels))
 
 
 def _fits(built, velocity_max: float | None, stroke_max: float | None) -> bool:
@@ -762,24 +869,23 @@ def _fits(built, velocity_max: float | None, stroke_max: float | None) -> bool:
 
 
 def _choose(candidates, period, a, r, law, velocity_max, stroke_max) -> OptimalProfile:
-    """The fastest of the candidate sub-cycles (k, arcs of period 1) scaled to ``period``, by the exact
-    solver: each must meet the limits exactly and move the part as the closed form of its slide says
-    (int x' dt over the slide, to :data:`CLOSED_FORM_RTOL`); the fastest sub-cycle always does."""
-    built = [(k, arcs, _built(arcs, k, period)) for k, arcs in candidates]
-    built = [b for b in built if _fits(b[2], velocity_max, stroke_max)]
-    profiles = [PiecewiseConstantProfile(*b[2][:4]) for b in built]
-    closed = [arcs.quantities()[4] * period / k for k, arcs, _ in built]
+    """The fastest of the candidate motions (arcs of period 1) scaled to ``period``, by the exact solver:
+    each must meet the limits exactly and move the part as the closed form of its slides says
+    (int x' dt, to :data:`CLOSED_FORM_RTOL`); the fastest motion's copies always do."""
+    built = [(arcs, _built(arcs, period)) for arcs in candidates]
+    built = [b for b in built if _fits(b[1], velocity_max, stroke_max)]
+    profiles = [PiecewiseConstantProfile(*b[1][:4]) for b in built]
+    closed = [arcs.quantities()[4] * period for arcs, _ in built]
     vbars = steady_mean_velocity(profiles, law)
     agree = [i for i, v in enumerate(vbars) if abs(v - closed[i]) <= CLOSED_FORM_RTOL * closed[i]]
     if not agree:
         raise RuntimeError(f"the exact solver's mean velocities {vbars.tolist()} disagree with the closed forms "
                            f"{closed} of the motions found for period = {period!r}, accel_max = {a!r}, r = {r!r}")
     i = max(agree, key=lambda i: vbars[i])
-    k, arcs, (_, _, _, _, speed, stroke) = built[i]
+    arcs, (_, _, _, _, speed, stroke) = built[i]
     used = {"accel_max": True, "velocity_max": velocity_max is not None and speed >= velocity_max * (1.0 - BINDING),
             "stroke_max": stroke_max is not None and stroke >= stroke_max * (1.0 - BINDING)}
     return OptimalProfile(profile=profiles[i], vbar=float(vbars[i]),
                           vbar_bound=float(optimal_mean_velocity(period, a, r)),
-                          binding=tuple(name for name, full in used.items() if full),
-                          family=_family(arcs.levels, arcs.durations, arcs.sliding, a, r, k), sub_cycles=k,
-                          peak_velocity=speed, stroke=stroke)
+                          binding=tuple(name for name, full in used.items() if full), family=_family(arcs, a, r),
+                          sub_cycles=len(arcs.slides()), peak_velocity=speed, stroke=stroke)
