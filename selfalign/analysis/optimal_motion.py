@@ -79,9 +79,9 @@ CLOSED_FORM_RTOL = 1e-9
 
 @dataclass(frozen=True)
 class OptimalProfile:
-    """The fastest table motion found by :func:`optimal_profile`, and how fast the part moves on it.
+    """The fastest table motion found by :func:`~selfalign.optimal_profile`, and how fast the part moves on it.
 
-    Built by :func:`optimal_profile`, which documents how; the fields are stored as given.
+    Built by :func:`~selfalign.optimal_profile`, which documents how; the fields are stored as given.
 
     Parameters
     ----------
@@ -90,7 +90,7 @@ class OptimalProfile:
     vbar : float
         The part's steady mean velocity on it (eq. 10), from the exact solver.
     vbar_bound : float
-        The proven bound v* under the acceleration limit alone (:func:`optimal_vbar`).
+        The proven bound v* under the acceleration limit alone (:func:`~selfalign.optimal_vbar`).
     binding : tuple of str
         The limits the motion uses to the full.
     family : str
@@ -174,7 +174,7 @@ def optimal_vbar(period, accel_max, ratio=1.0) -> float:
     On a uniform surface (mu_bar = 1, Sect. 3.2) no periodic table motion of period dt with
     ``|y''| <= a`` moves the part faster on average than v* = (a^2 - 1) r^2 dt / (4 a (1 + r)^2), r the
     static/kinetic friction ratio (1: the paper's Coulomb friction, v* = (a^2 - 1) dt / (16 a)), and one
-    motion attains it (:func:`optimal_profile`).  The proof is on the page
+    motion attains it (:func:`~selfalign.optimal_profile`).  The proof is on the page
     docs/explanation/optimal-motion.md.
 
     Parameters
@@ -752,7 +752,7 @@ def optimal_profile(period, accel_max, *, stroke_max=None, velocity_max=None, fr
 
     Proven for the acceleration limit alone, numerical under the other limits.  On a uniform surface
     (mu_bar = 1, Sect. 3.2) the part's steady mean velocity (eq. 10) under ``|y''| <= a`` is at most v*
-    (:func:`optimal_vbar`), and y'' = -a, +a, +r attains it: the table pulls back at -a while the part
+    (:func:`~selfalign.optimal_vbar`), and y'' = -a, +a, +r attains it: the table pulls back at -a while the part
     slides forward, catches up at +a as the part comes to rest, then regains its speed at the static limit
     r with the part stuck.  That motion is returned whenever it meets the other limits.  Otherwise the
     search of the module ``selfalign.analysis.optimal_motion`` runs (sub-cycles, each a slide from rest and
