@@ -30,6 +30,8 @@ _EXPORTS = {
     "stick_map": "analysis.stick_map", "Positioning": "analysis.positioning", "positioning": "analysis.positioning",
     "Design": "analysis.design", "design": "analysis.design", "DesignSpec": "model.design_spec",
     "load_design_spec": "io.design_spec",
+    "OptimalProfile": "analysis.optimal_motion", "optimal_profile": "analysis.optimal_motion",
+    "optimal_vbar": "analysis.optimal_motion",
 }
 
 __all__ = sorted(_EXPORTS) + ["__version__"]

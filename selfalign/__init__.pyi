@@ -9,6 +9,9 @@ from .analysis.floquet import FloquetResult as FloquetResult
 from .analysis.floquet import floquet as floquet
 from .analysis.lyapunov import LyapunovTrace as LyapunovTrace
 from .analysis.lyapunov import lyapunov_trace as lyapunov_trace
+from .analysis.optimal_motion import OptimalProfile as OptimalProfile
+from .analysis.optimal_motion import optimal_profile as optimal_profile
+from .analysis.optimal_motion import optimal_vbar as optimal_vbar
 from .analysis.positioning import Positioning as Positioning
 from .analysis.positioning import positioning as positioning
 from .analysis.steady_state import SteadyState as SteadyState

@@ -23,16 +23,22 @@ def pytest_addoption(parser):
                      help="rewrite tests/figure_refs/*.json and figures/*.png instead of comparing")
 
 
+#: Markers whose tests run only when the ``-m`` expression names them.
+OPT_IN_MARKERS = ("slurm", "exhaustive")
+
+
 def pytest_collection_modifyitems(config, items):
-    """Tests marked ``slurm`` start daemons as root and take minutes: they run only when the ``-m``
-    expression names them (``.ci/run`` runs ``pytest -q -m slurm``), so the README's test command
-    and e.g. ``-m 'not slow'`` leave them out."""
-    if "slurm" in config.getoption("markexpr"):
-        return
-    slurm = [item for item in items if item.get_closest_marker("slurm")]
-    if slurm:
-        config.hook.pytest_deselected(items=slurm)
-        items[:] = [item for item in items if not item.get_closest_marker("slurm")]
+    """Tests marked ``slurm`` start daemons as root and take minutes; tests marked ``exhaustive``
+    repeat a claim with a far larger search budget (minutes each).  Both run only when the ``-m``
+    expression names their marker (``.ci/run`` runs ``pytest -q -m slurm`` and ``-m exhaustive``), so
+    the README's test command and e.g. ``-m 'not slow'`` leave them out."""
+    for marker in OPT_IN_MARKERS:
+        if marker in config.getoption("markexpr"):
+            continue
+        opted = [item for item in items if item.get_closest_marker(marker)]
+        if opted:
+            config.hook.pytest_deselected(items=opted)
+            items[:] = [item for item in items if not item.get_closest_marker(marker)]
 
 
 @pytest.fixture

@@ -186,8 +186,7 @@ def test_no_piece_profile_beats_the_optimum(pieces, period, a, ratio, velocity_m
         assert found >= ours.vbar * (1.0 - BEATEN_BY), (found, ours.vbar)
 
 
-@pytest.mark.slow
-@pytest.mark.blas
+@pytest.mark.exhaustive
 @pytest.mark.parametrize("pieces", [3, 4, 8, 16, 32, 64])
 @pytest.mark.parametrize("period, a, ratio, velocity_max, stroke_max",
                          GRID + [(1.0, 2.0, 1.2, None, None), (1.0, 3.0, 1.0, 0.4, None), (1.0, 3.0, 1.0, 0.1, None),
