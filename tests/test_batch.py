@@ -253,3 +253,33 @@ def test_end_time_in_periods_and_event_count():
         with pytest.warns(DeprecationWarning, match=f"^BatchResult.{old} is deprecated; use BatchResult.{new}$"):
             value = getattr(res, old)
         np.testing.assert_array_equal(value, getattr(res, new))
+
+
+@pytest.mark.parametrize("friction", [None, sa.FrictionLaw("static_kinetic", 1.3)])
+def test_batch_message_of_a_rest_is_the_scalar_runs(friction):
+    """Hypothesis: a batch member's message is the scalar run's, including at rest, where it names
+    the friction that holds the part, mu_bar at the end position of eqs. (7)-(9) (times r = mu_s/mu_k
+    under static friction), not a missing value."""
+    profile = ThreePhaseProfile(1.05, 0.06, 1.5, 0.9)
+    zone = StopZone(0.5, 0.05, 2.5)
+    res = simulate_batch(profile, [0.53, 0.6], 0.0, 0.3, surface=zone, until="rest", max_periods=1000,
+                         friction=friction)
+    for i, x0 in enumerate((0.53, 0.6)):
+        law = {} if friction is None else {"friction": friction}
+        traj = simulate(Scene(profile, zone, x0=x0, phase=0.3, until="rest", max_periods=1000, **law))
+        assert traj.status is Status.REST and res.statuses()[i] is Status.REST
+        assert res.message(i) == traj.message
+        assert "None" not in res.message(i)
+    r = 1.0 if friction is None else friction.ratio
+    assert f"= {float(zone.coefficient(0.53)) * r!r} >=" in res.message(0)
+
+
+@pytest.mark.parametrize("extra", [{"x_mu": 0.5}, {"w": 0.05}, {"c_mu": 2.5}])
+@pytest.mark.parametrize("surface", [StopZone(0.5, 0.05, 2.5), Uniform()])
+def test_batch_refuses_a_surface_and_zone_settings_together(surface, extra):
+    """Hypothesis: a batch takes its surface either as ``surface=`` or as ``x_mu``, ``w``, ``c_mu``;
+    both together are refused before any work, whichever kind of surface, rather than one silently
+    winning."""
+    profile = ThreePhaseProfile(1.05, 0.084, 2.2, 0.9)
+    with pytest.raises(ValueError, match="either as surface= or as x_mu=, w=, c_mu=, not both"):
+        simulate_batch(profile, [0.0], surface=surface, **extra)

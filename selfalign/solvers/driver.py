@@ -310,7 +310,7 @@ def simulate_batch(profiles, x0, v0=0.0, phase=0.0, *, profile_index=None, surfa
         Picks each member's profile (default: all the one profile, or one profile per member).
     surface : Uniform or StopZone, optional
         The surface of every member: Uniform or one StopZone for all (a StopZone takes the
-        place of ``x_mu``, ``w``, ``c_mu``; a Uniform surface together with them is refused).
+        place of ``x_mu``, ``w``, ``c_mu``; a surface together with any of them is refused).
     x_mu, w, c_mu : float or array_like, optional
         Per-member stop zones instead of ``surface`` (``c_mu == 1`` is a uniform surface);
         ``w`` > 0 and ``c_mu`` >= 1.  ``w`` and ``c_mu`` need ``x_mu``.
@@ -430,10 +430,10 @@ def simulate_batch(profiles, x0, v0=0.0, phase=0.0, *, profile_index=None, surfa
         raise ValueError("phase must lie in [0, 1) (fraction of the period)")
     if method == "moreau" and phase.size and np.ptp(phase) > 0.0:
         raise ValueError("method 'moreau' in a batch needs one phase for every member")
+    if surface is not None and (x_mu is not None or w is not None or c_mu is not None):
+        raise ValueError("give the surface either as surface= or as x_mu=, w=, c_mu=, not both")
     if isinstance(surface, StopZone):
         x_mu, w, c_mu = surface.x_mu, surface.w, surface.c_mu
-    elif surface is not None and (x_mu is not None or w is not None or c_mu is not None):
-        raise ValueError("give the surface either as surface= or as x_mu=, w=, c_mu=, not both")
     if x_mu is None:
         if w is not None or c_mu is not None:
             raise ValueError("w and c_mu need x_mu (a stop zone); leave all three None for a uniform surface")

@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..model.friction import coefficient
 from .outcomes import MAX_CYCLE, STALL_EVENTS, STALL_ULPS, STATUS_CODES, Reason, Status, message
 
 _REASON_TO_STATUS_CODE = np.array([STATUS_CODES[Reason(r).status] for r in range(len(Reason))], dtype=np.int8)
@@ -373,8 +374,11 @@ class BatchResult:
         return {status.value: int(np.count_nonzero(codes == i)) for i, status in enumerate(_STATUSES)}
 
     def message(self, i: int) -> str:
-        """The message of member ``i`` (``MESSAGES``)."""
-        return outcome_message(self.records[i], float(self.origin[i]), self.options, self.until, self.horizon)
+        """The message of member ``i`` (``MESSAGES``); a rest names mu_bar at the end position (eqs. 7-9)."""
+        rec = self.records[i]
+        mu = coefficient(float(rec["xi"]), float(rec["w"]), float(rec["c_mu"])) if rec["zone"] else 1.0
+        return outcome_message(rec, float(self.origin[i]), self.options, self.until, self.horizon, mu,
+                               ratio=float(rec["static_ratio"]))
 
 
 def _renamed(old: str, new: str) -> None:
