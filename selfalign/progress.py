@@ -46,6 +46,8 @@ LOGGER = logging.getLogger("selfalign.progress")
 
 def resolve_mode(mode: str = "auto", stream=None) -> str:
     """The mode ``"bar"``, ``"log"`` or ``"quiet"`` that ``mode`` stands for (module docstring)."""
+    if not isinstance(mode, str):
+        raise TypeError(f"progress must be a string, one of {list(MODES)}, got {mode!r} ({type(mode).__name__})")
     if mode not in MODES:
         raise ValueError(f"progress must be one of {list(MODES)}, got {mode!r}")
     if mode != "auto":

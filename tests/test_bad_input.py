@@ -376,3 +376,27 @@ def test_a_scene_document_names_the_key_for_any_problem(tmp_path, loader, value,
     with pytest.raises(sa.SceneError) as info:
         getattr(sa, loader)(doc)
     assert one_line(info).startswith(f"{source}: profile.dt: {problem}"), info.value
+
+
+FIG18_SCENE = sa.Scene(sa.ThreePhaseProfile(1.05, 0.084, 2.2, 0.9), periods=1)
+CHOICES = {
+    "simulate/method": lambda v: sa.simulate(FIG18_SCENE, v),
+    "simulate_batch/method": lambda v: sa.simulate_batch(FIG18_SCENE.profile, [0.0], method=v, periods=1),
+    "simulate_batch/until": lambda v: sa.simulate_batch(FIG18_SCENE.profile, [0.0], until=v, periods=1),
+    "floquet/method": lambda v: sa.floquet(FIG18_SCENE.profile, v),
+    "positioning_grid/progress": lambda v: positioning_grid(1.0, 0.084, 2.0, 1.0, w=0.05, c_mu=2.5, progress=v),
+}
+
+
+@pytest.mark.parametrize("value", [1, 1.5, b"exact", ["exact"]], ids=lambda v: type(v).__name__)
+@pytest.mark.parametrize("call", CHOICES)
+def test_a_choice_of_the_wrong_type_is_a_type_error(call, value):
+    """Hypothesis: a method, ``until`` or ``progress`` that is not a string raises TypeError naming the
+    argument and its allowed values, as a number of the wrong type does; an unknown string stays a
+    ValueError naming them."""
+    name = call.split("/")[1]
+    with pytest.raises(TypeError, match=f"^{name} must be a string, one of \\["):
+        CHOICES[call](value)
+    with pytest.raises(ValueError, match=f"{name} must be one of \\[") as info:
+        CHOICES[call]("nonsense")
+    assert not isinstance(info.value, TypeError)

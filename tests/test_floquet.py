@@ -231,7 +231,7 @@ def test_one_period_map_is_a_fixed_point(profiles):
 
 
 @pytest.mark.parametrize("call, error, message", [
-    (lambda p: floquet(p, "exact"), ValueError, "unknown method"),
+    (lambda p: floquet(p, "exact"), ValueError, "method must be one of"),
     (lambda p: floquet(p, "saltation", eps=1e-3), ValueError, "unknown option"),
     (lambda p: floquet(p, "numeric", solver="ivp"), ValueError, "option solver"),
     (lambda p: floquet(p, "numeric", h=1e-3), ValueError, "applies to solver='moreau' only"),

@@ -50,7 +50,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..model import arcs as _arcs
-from ..model.errors import check_real
+from ..model.errors import check_choice, check_real
 from ..model.friction import StopZone, Uniform
 from ..model.profiles import Profile, ThreePhaseProfile
 from ..model.scene import Record, Scene
@@ -163,8 +163,7 @@ def _system(profile_or_scene):
 
 
 def _check_options(method, options):
-    if method not in DEFAULT_OPTIONS:
-        raise ValueError(f"unknown method {method!r}; allowed: {', '.join(DEFAULT_OPTIONS)}")
+    check_choice("method", method, DEFAULT_OPTIONS)
     allowed = DEFAULT_OPTIONS[method]
     unknown = sorted(set(options) - set(allowed))
     if unknown:

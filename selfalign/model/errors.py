@@ -148,6 +148,16 @@ def check_real(name: str, value) -> float:
     return float(value)
 
 
+def check_choice(name: str, value, allowed) -> str:
+    """Return ``value`` if it is one of the strings ``allowed``: TypeError naming ``name`` unless it is a
+    string, ValueError naming the allowed values unless it is one of them."""
+    if not isinstance(value, str):
+        raise TypeError(f"{name} must be a string, one of {list(allowed)}, got {value!r} ({type(value).__name__})")
+    if value not in allowed:
+        raise ValueError(f"{name} must be one of {list(allowed)}, got {value!r}")
+    return value
+
+
 def check_real_array(name: str, value) -> np.ndarray:
     """Return ``value``, a real number or an array-like of them, as a float array, or raise
     TypeError naming ``name`` unless its entries are integers or floats (strings, bools, None

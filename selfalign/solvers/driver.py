@@ -16,7 +16,7 @@ import time
 
 import numpy as np
 
-from ..model.errors import check_integer, check_real_array
+from ..model.errors import check_choice, check_integer, check_real_array
 from ..model.friction import FrictionLaw, StopZone, check_zone_position
 from ..model.scene import Scene
 from . import moreau
@@ -247,8 +247,7 @@ def _member_array(name, value, size, dtype=float) -> np.ndarray:
 
 def _horizon(until, periods, max_periods) -> tuple[int, int, str]:
     """(until code, horizon in periods, the name of the option that gave it)."""
-    if until not in R.UNTIL_CODES:
-        raise ValueError(f"until must be one of {list(R.UNTIL_CODES)}, got {until!r}")
+    check_choice("until", until, R.UNTIL_CODES)
     value, name = (periods, "periods") if until == "periods" else (max_periods, "max_periods")
     if value is None:
         raise ValueError(f"until = {until!r} needs {name}, an integer >= 1")

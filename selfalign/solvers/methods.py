@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 from types import SimpleNamespace
 from typing import Callable
 
+from ..model.errors import check_choice
 from ..model.friction import StopZone
 from ..model.profiles import FourierProfile, PiecewiseLinearProfile
 from . import records as R
@@ -197,11 +198,10 @@ METHODS = {
 def resolve(method: str, options: dict) -> dict:
     """The options of ``method`` with defaults filled in and every value checked.
 
-    ValueError naming an unknown method, an unknown option, or a value that is not
-    allowed (and what is).
+    TypeError for a method that is not a string; ValueError naming an unknown method, an
+    unknown option, or a value that is not allowed (and what is).
     """
-    if method not in METHODS:
-        raise ValueError(f"unknown method {method!r}; allowed: {', '.join(METHODS)}")
+    check_choice("method", method, METHODS)
     spec = METHODS[method].options
     unknown = sorted(set(options) - set(spec))
     if unknown:
