@@ -33,13 +33,14 @@ def test_readme_opens_with_what_the_project_is(readme):
 
 
 def test_quick_start_is_two_idempotent_commands(readme):
-    """Exactly two commands: build everything with Snakemake, run the tests; both set up the
-    venv in a way that is safe to repeat (no --clear, editable install)."""
+    """Exactly two commands: build everything with Snakemake, run the tests (on two processes, a test
+    file per process at a time, so that a file's fixtures are built once); both set up the venv in a
+    way that is safe to repeat (no --clear, editable install)."""
     build, test = quick_start(readme)
     for command in (build, test):
         assert command.startswith(SETUP), command
     assert re.fullmatch(re.escape(SETUP) + r"\.venv/bin/snakemake -c\d+", build)
-    assert test == SETUP + ".venv/bin/python -m pytest -q"
+    assert test == SETUP + ".venv/bin/python -m pytest -q -n 2 --dist loadfile"
 
 
 def test_ci_runs_the_readme_test_command_verbatim(repo, readme):
