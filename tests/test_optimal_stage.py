@@ -133,7 +133,8 @@ def _curves(result):
     """(sweep name, optimum, bound, [other curves]) of both sweeps."""
     for name in ("accel_sweep", "stroke_sweep"):
         d = result["groups"][name]["datasets"]
-        yield name, d["vbar_optimal"], d["vbar_bound"], [d["vbar_three_phase"], *d["vbar_fourier"], *d["vbar_truncated"]]
+        others = [d["vbar_three_phase"], *d["vbar_fourier"], *d["vbar_truncated"]]
+        yield name, d["vbar_optimal"], d["vbar_bound"], others
 
 
 def assert_optimum_dominates(result):

@@ -257,7 +257,8 @@ def fig06_revisited_results(settings: Mapping, progress: str = "auto") -> tuple[
     tuple of (dict, dict, dict)
         No root datasets; root attributes (the limits, c of eq. 11, the paper's f, the SQP's budget, stop
         reasons and iterations at Fig. 6's limits); the groups ``comparison`` (one entry per answer at Fig. 6's
-        limits), ``truncation``, ``accel_sweep`` and ``stroke_sweep`` (docs/reference/results.md).
+        limits), ``truncation``, ``accel_sweep`` and ``stroke_sweep`` (docs/explanation/fig6-revisited.md;
+        every dataset on the result-quantities page).
 
     Raises
     ------
