@@ -12,6 +12,7 @@ import yaml
 from figcheck import compare_figure_data, figure_data, load_reference
 from test_figures import ATOL, RTOL, assert_data_matches
 
+from selfalign.analysis.optimal_motion import centred_motion, fastest_pieces
 from selfalign.io.hdf5 import measured_datasets, read_h5, reproducible_bytes, write_h5
 from selfalign.plots.optimal_motion import figure_fig06_revisited
 from selfalign.stages.optimal_motion import fig06_revisited_results
@@ -74,6 +75,39 @@ def test_comparison_holds_the_numbers_of_the_page(study):
     assert got["bound"]["vbar"] == pytest.approx((1275.0**2 - 1.0) * 0.072 / (16.0 * 1275.0), rel=1e-12)
     assert got["fourier_12"]["share_of_optimum"] == pytest.approx(0.5567, abs=5e-4)
     assert got["three_phase"]["share_of_optimum"] == pytest.approx(0.3192, abs=5e-4)
+
+
+def test_the_fastest_motion_at_the_papers_limits(study):
+    """Hypothesis (the page, "The comparison"): the fastest motion found has three slides per period, and the
+    unlimited fastest motion y'' = -a, +a, +1 of period 0.072 at a = 1275 would need a stroke of 0.232 and a
+    speed of 17.2, far beyond Fig. 6's 0.021 and 3.2 (why v* is out of reach)."""
+    assert study["attrs"]["optimal_sub_cycles"] == 3
+    assert study["attrs"]["optimal_family"].count("|") == 2
+    _, _, speed, stroke = centred_motion(*fastest_pieces(0.072, 1275.0, 1.0, 0.0))
+    assert stroke == pytest.approx(0.2324, rel=PAGE_RTOL)
+    assert speed == pytest.approx(17.21, rel=PAGE_RTOL)
+
+
+def test_the_sweeps_hold_the_numbers_of_the_page(study):
+    """Hypothesis (the page, "What the figure shows"): at a = 100 only the acceleration limit binds and the
+    fastest motion attains v* = 0.44995; at a = 3200 it reaches 2.170 against v* = 14.4; the three-phase
+    profile stays within [0.50, 0.51] from a = 200 on; along S it rises from 0.8196 (S = 0.005) to 2.124
+    (S = 0.08), the three-phase profile from 0.1122 to 1.058 at S = 0.05 (stroke 0.0434) and 1.052 at 0.08."""
+    d = study["groups"]["accel_sweep"]["datasets"]
+    at = {a: i for i, a in enumerate(d["accel_max"].tolist())}
+    assert d["vbar_optimal"][at[100.0]] == pytest.approx(0.44995, rel=1e-5)
+    assert d["vbar_optimal"][at[100.0]] == pytest.approx(d["vbar_bound"][at[100.0]], rel=1e-9)
+    assert d["vbar_optimal"][at[3200.0]] == pytest.approx(2.1699, rel=PAGE_RTOL)
+    assert d["vbar_bound"][at[3200.0]] == pytest.approx(14.4, rel=1e-6)
+    held = d["vbar_three_phase"][d["accel_max"] >= 200.0]
+    assert np.all((held >= 0.50) & (held <= 0.51)), held
+    d = study["groups"]["stroke_sweep"]["datasets"]
+    at = {s: i for i, s in enumerate(d["stroke_max"].tolist())}
+    for s, optimal, three in ((0.005, 0.8196, 0.1122), (0.08, 2.1239, 1.0523)):
+        assert d["vbar_optimal"][at[s]] == pytest.approx(optimal, rel=PAGE_RTOL), s
+        assert d["vbar_three_phase"][at[s]] == pytest.approx(three, rel=PAGE_RTOL), s
+    assert d["vbar_three_phase"][at[0.05]] == pytest.approx(1.0581, rel=PAGE_RTOL)
+    assert d["three_phase_stroke"][at[0.05]] == pytest.approx(0.0434, abs=5e-4)
 
 
 def test_a_twelve_harmonic_motion_beats_the_sqp(study):

@@ -42,11 +42,11 @@ BINDING = 1e-3
 #: Strokes q S tried per pass of :func:`three_phase_under_limits`, passes after the first, and the grid
 #: size of each (y2'', y3'') search (:func:`~selfalign.analysis.fourier_design.best_three_phase`).
 STROKE_SCAN, STROKE_ZOOMS, THREE_PHASE_GRID = 8, 2, 101
-#: Samples per period of the steady motion whose slides :func:`slide_structure` counts.
+#: Samples per period of the steady motion whose slides ``_slide_structure`` counts.
 STRUCTURE_SAMPLES = 4000
 
 
-def steady_vbar(profile) -> tuple[float, float]:
+def _steady_vbar(profile) -> tuple[float, float]:
     """(vbar, x'(0)) of the steady motion the exact solver reaches from rest at t = 0 on a uniform surface
     (eq. 10; the time average over the second half of :data:`OPTIMISER_PERIODS` periods if it never repeats,
     as in the Fourier optimisation)."""
@@ -54,7 +54,7 @@ def steady_vbar(profile) -> tuple[float, float]:
     return float(steady.vbar[0]), float(steady.v0[0])
 
 
-def limits_used(profile) -> tuple[float, float, float]:
+def _limits_used(profile) -> tuple[float, float, float]:
     """(peak acceleration max |y''|, peak speed max |y'|, stroke max y - min y) of a Fourier or a
     piecewise-constant table motion (y' of zero mean, as a periodic y needs)."""
     if isinstance(profile, FourierProfile):
@@ -63,7 +63,7 @@ def limits_used(profile) -> tuple[float, float, float]:
     return float(np.max(np.abs(profile.accels))), speed, stroke
 
 
-def binding(used, limits) -> str:
+def _binding(used, limits) -> str:
     """The names of :data:`LIMITS` that ``used`` (same order) reaches within :data:`BINDING`, joined by
     ", "."""
     return ", ".join(name for name, u, limit in zip(LIMITS, used, limits) if u >= (1.0 - BINDING) * limit)
@@ -102,6 +102,7 @@ def three_phase_under_limits(period: float, accel_max: float, stroke_max: float,
 
     Examples
     --------
+    >>> from selfalign.stages.optimal_motion import three_phase_under_limits
     >>> profile, vbar = three_phase_under_limits(0.072, 1275.0, 0.021, 3.2)
     >>> print(round(profile.dy, 4), round(vbar, 3))
     0.021 0.506
@@ -151,7 +152,7 @@ def fourier_truncation(profile, order: int, accel_max: float, stroke_max: float,
     Raises
     ------
     ValueError
-        If ``order`` is not >= 1 (from the Fourier profile).
+        If ``order`` is not an integer >= 1.
 
     Notes
     -----
@@ -161,17 +162,20 @@ def fourier_truncation(profile, order: int, accel_max: float, stroke_max: float,
     Examples
     --------
     >>> from selfalign.model.profiles import ThreePhaseProfile
+    >>> from selfalign.stages.optimal_motion import fourier_truncation
     >>> motion, scale = fourier_truncation(ThreePhaseProfile(1.0, 0.05, 2.0, 1.0), 4, 2.0, 0.05, 1.0)
     >>> print(motion.order, round(scale, 3), motion.peak_acceleration <= 2.0, motion.stroke <= 0.05)
-    4 0.948 True True
+    4 0.844 True True
     """
-    full = fourier_projection(profile, order)
+    if isinstance(order, bool) or not isinstance(order, (int, np.integer)) or order < 1:
+        raise ValueError(f"order must be an integer >= 1, got {order!r}")
+    full = fourier_projection(profile, int(order))
     scale = min(1.0, *(limit / used for limit, used in zip((accel_max, velocity_max, stroke_max),
-                                                           limits_used(full))))
+                                                           _limits_used(full))))
     return FourierProfile(full.dt, scale * full.cos_coeffs, scale * full.sin_coeffs), float(scale)
 
 
-def slide_structure(profile, v0: float) -> tuple[int, int, float]:
+def _slide_structure(profile, v0: float) -> tuple[int, int, float]:
     """(forward slides, backward slides, backward loss) of one steady period of ``profile`` from x'(0) =
     ``v0`` (exact solver, :data:`STRUCTURE_SAMPLES` samples a period plus every event): the slides are the
     runs of x' > 0 and of x' < 0 around the period, the loss is int max(-x', 0) dt over int max(x', 0) dt,
@@ -206,7 +210,7 @@ class _Study:
         for n in truncations:
             if n not in known:
                 motion, scale = fourier_truncation(self.points[key]["optimal"].profile, n, a, s, self.velocity_max)
-                known[n] = (scale, steady_vbar(motion)[0])
+                known[n] = (scale, _steady_vbar(motion)[0])
         return self.points[key]
 
     def sqp(self, a: float, s: float, order: int):
@@ -267,8 +271,20 @@ def fig06_revisited_results(settings: Mapping, progress: str = "auto") -> tuple[
 
     Examples
     --------
-    Costly (the Fourier SQP of every order, about a minute at the workflow's settings); see
-    ``tests/test_optimal_stage.py``.
+    The workflow's settings take about a minute (the Fourier SQP of every order); a small study at a = 300,
+    order 4 and three SQP iterations, at one point per sweep, takes a few seconds:
+
+    >>> import yaml
+    >>> from selfalign.stages.optimal_motion import fig06_revisited_results
+    >>> settings = yaml.safe_load(open("workflow/config/config.yaml"))["stages"]["optimal_motion"]
+    >>> one = {"from": 1.0, "to": 1.0, "count": 1, "scale": "linear"}
+    >>> settings.update(accel_max=300.0, orders=[4], max_iter=3, truncation_orders=[4, 12],
+    ...                 accel_sweep={**one, "from": 300.0, "to": 300.0}, fourier_accel_max=[300.0],
+    ...                 stroke_sweep={**one, "from": 0.021, "to": 0.021}, fourier_stroke_max=[0.021])
+    >>> _, _, groups = fig06_revisited_results(settings, progress="quiet")
+    >>> c = groups["comparison"]["datasets"]
+    >>> print(c["entry"].tolist(), [round(float(v), 4) for v in c["vbar"]])
+    ['paper', 'three_phase', 'fourier_4', 'optimal', 'bound'] [0.0013, 0.5055, 0.3547, 0.6994, 1.35]
     """
     period, a, s, v = (float(settings[k]) for k in ("period", "accel_max", "stroke_max", "velocity_max"))
     limits = (a, v, s)
@@ -280,16 +296,16 @@ def fig06_revisited_results(settings: Mapping, progress: str = "auto") -> tuple[
     entries = ["paper"] + ["three_phase"] + [f"fourier_{n}" for n in orders] + ["optimal", "bound"]
     paper_vbar = float(1.0 / np.sqrt(OBJECTIVE_SCALE * PAPER_FIG6_F))
     motions = [three] + [opt.profile for opt in fourier] + [best.profile]
-    steady = [steady_vbar(m) for m in motions]
-    used = [limits_used(m) for m in motions]
-    structure = [slide_structure(m, v0) for m, (_, v0) in zip(motions, steady)]
+    steady = [_steady_vbar(m) for m in motions]
+    used = [_limits_used(m) for m in motions]
+    structure = [_slide_structure(m, v0) for m, (_, v0) in zip(motions, steady)]
     nan3 = (np.nan, np.nan, np.nan)
     vbar = np.array([paper_vbar] + [vb for vb, _ in steady] + [best.vbar_bound])
     table = np.array([nan3] + used + [(a, np.nan, np.nan)])
     slides = np.array([nan3] + structure + [nan3])
     comparison = {"entry": np.array(entries), "vbar": vbar, "f": objective(vbar),
                   "peak_acceleration": table[:, 0], "peak_velocity": table[:, 1], "stroke": table[:, 2],
-                  "binding": np.array([""] + [binding(u, limits) for u in used] + ["accel_max"]),
+                  "binding": np.array([""] + [_binding(u, limits) for u in used] + ["accel_max"]),
                   "forward_slides": slides[:, 0], "backward_slides": slides[:, 1], "backward_loss": slides[:, 2],
                   "share_of_optimum": vbar / best.vbar}
     truncation = {"orders": np.array(truncations, dtype=np.int64),
