@@ -90,12 +90,13 @@ def test_the_fastest_motion_at_the_papers_limits(study):
 
 def test_the_sweeps_hold_the_numbers_of_the_page(study):
     """Hypothesis (the page, "What the figure shows"): at a = 100 only the acceleration limit binds and the
-    fastest motion attains v* = 0.44995; at a = 3200 it reaches 2.170 against v* = 14.4; the three-phase
-    profile stays within [0.50, 0.51] from a = 200 on; along S it rises from 0.8196 (S = 0.005) to 2.124
-    (S = 0.08), the three-phase profile from 0.1122 to 1.058 at S = 0.05 (stroke 0.0434) and 1.052 at 0.08."""
+    fastest motion attains v* = 9999 x 0.072 / 1600 = 0.449955; at a = 3200 it reaches 2.170 against
+    v* = 14.4; the three-phase profile stays within [0.50, 0.51] from a = 200 on; along S the fastest motion
+    rises from 0.8196 (S = 0.005) to 2.124 (S = 0.08), the three-phase profile from 0.1122 to 1.058 at
+    S = 0.05 (stroke 0.0434) and 1.052 at 0.08."""
     d = study["groups"]["accel_sweep"]["datasets"]
     at = {a: i for i, a in enumerate(d["accel_max"].tolist())}
-    assert d["vbar_optimal"][at[100.0]] == pytest.approx(0.44995, rel=1e-5)
+    assert d["vbar_optimal"][at[100.0]] == pytest.approx(0.449955, rel=1e-9)
     assert d["vbar_optimal"][at[100.0]] == pytest.approx(d["vbar_bound"][at[100.0]], rel=1e-9)
     assert d["vbar_optimal"][at[3200.0]] == pytest.approx(2.1699, rel=PAGE_RTOL)
     assert d["vbar_bound"][at[3200.0]] == pytest.approx(14.4, rel=1e-6)
