@@ -316,6 +316,41 @@ QUANTITIES: dict[str, Quantity] = {
     "stopping/frac_rest": Quantity("number", "fraction of the steady-state entries into the stop zone that come to "
                                              "rest; NaN where the mass does not move forward"),
     "stopping/dx_d": Quantity("length", "dx_d (eq. 39) over the entries that stop; NaN where none stops"),
+    # Fig. 6 revisited, results/optimal_motion/fig06_revisited.h5 (selfalign.stages.optimal_motion)
+    "comparison/entry": Quantity("text", "the answers at Fig. 6's limits: paper (its caption's f), three_phase (best "
+                                         "of Sect. 4.4.3), fourier_<N> (SQP of order N), optimal (optimal_profile), "
+                                         "bound (v* of the acceleration limit alone)"),
+    "comparison/vbar": Quantity("velocity", "per entry: steady average velocity vbar (eq. 10), exact solver from rest; "
+                                            "the paper's from its f, the bound's v*"),
+    "comparison/f": Quantity("number", "per entry: objective f = 1 / (c vbar^2), c = 1e4 (eq. 11)"),
+    "comparison/peak_acceleration": Quantity("acceleration", "per entry: max |y''| of the table motion (NaN: not "
+                                                             "known)"),
+    "comparison/peak_velocity": Quantity("velocity", "per entry: max |y'| of the table motion, y' of zero mean (NaN: "
+                                                     "not known)"),
+    "comparison/stroke": Quantity("length", "per entry: stroke max y - min y of the table motion (NaN: not known)"),
+    "comparison/binding": Quantity("text", "per entry: the limits the motion uses within 0.1 %, comma-separated"),
+    "comparison/forward_slides": Quantity("count", "per entry: forward slides (runs of x' > 0) in a steady period "
+                                                   "(NaN: not known)"),
+    "comparison/backward_slides": Quantity("count", "per entry: backward slides (runs of x' < 0) in a steady period "
+                                                    "(NaN: not known)"),
+    "comparison/backward_loss": Quantity("number", "per entry: int max(-x', 0) dt over int max(x', 0) dt in a steady "
+                                                   "period, the share of the advance backward slides take back"),
+    "comparison/share_of_optimum": Quantity("number", "per entry: vbar over the optimum's vbar"),
+    "truncation/orders": Quantity("count", "harmonics N kept of the optimum at Fig. 6's limits"),
+    "truncation/scale": Quantity("number", "factor the N-harmonic truncation is scaled by to meet the limits"),
+    "truncation/vbar": Quantity("velocity", "vbar (eq. 10) of the scaled truncation, exact solver from rest"),
+    "accel_sweep/accel_max": Quantity("acceleration", "the axis: acceleration limit a = max |y''|"),
+    "stroke_sweep/stroke_max": Quantity("length", "the axis: stroke limit S = max y - min y"),
+    "*_sweep/orders": Quantity("count", "Fourier orders N of the rows of vbar_truncated and vbar_fourier"),
+    "*_sweep/vbar_optimal": Quantity("velocity", "vbar (eq. 10) of the fastest motion found (optimal_profile)"),
+    "*_sweep/vbar_bound": Quantity("velocity", "v*, the proven bound of the acceleration limit alone"),
+    "*_sweep/vbar_three_phase": Quantity("velocity", "vbar (closed form) of the best three-phase profile meeting the "
+                                                     "limits, its stroke searched"),
+    "*_sweep/three_phase_stroke": Quantity("length", "stroke dy of that three-phase profile"),
+    "*_sweep/vbar_truncated": Quantity("velocity", "[order, point]: vbar of the fastest motion truncated to N "
+                                                   "harmonics and scaled into the limits, exact solver"),
+    "*_sweep/vbar_fourier": Quantity("velocity", "[order, point]: vbar of the Fourier SQP optimum of order N (NaN "
+                                                 "where the SQP was not run)"),
 }
 
 #: Axes and profile of a design (results/design/<spec>.h5), in SI.
