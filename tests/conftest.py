@@ -142,6 +142,11 @@ def small_config(repo: Path) -> dict:
     for plane in j["steady"].values():
         plane.update(y2=axis(plane["y2"]["from"], plane["y2"]["to"]), y3=axis(plane["y3"]["from"], plane["y3"]["to"]))
     j["stopping"].update(y2=axis(2.0, 2.4), y3=axis(1.0, 1.4), n_entries=2, max_periods=200)
+    # The comparison and one sweep point each at a = 300 and Fig. 6's stroke, one Fourier order of a few
+    # iterations.
+    s["optimal_motion"].update(accel_max=300.0, orders=[4], max_iter=3, truncation_orders=[4, 12],
+                               accel_sweep=axis(300.0, 300.0, 1), fourier_accel_max=[300.0],
+                               stroke_sweep=axis(0.021, 0.021, 1), fourier_stroke_max=[0.021])
     return config
 
 

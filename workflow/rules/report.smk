@@ -9,6 +9,7 @@ BENCHMARKED_JOBS = (
     [benchmark_file("simulation", n) for n in scenes("simulation")]
     + [benchmark_file("accuracy", n) for n in scenes("accuracy")]
     + [benchmark_file("classification", "fig06")]
+    + [benchmark_file("optimal_motion", "fig06_revisited")]
     + [benchmark_file("accumulation", f"shards/fig17_{i}")
        for i in range(config["stages"]["accumulation"]["positioning"]["shards"])]
 )
