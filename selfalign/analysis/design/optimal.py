@@ -126,8 +126,9 @@ def motions(spec: DesignSpec) -> list[Motion]:
                 seen.add(key)
                 held = stick_offset(spec, accel, c_values, mu_lo) < np.inf
                 if spec.accumulation:  # every entry ends at x_stick_min: its range over mu must fit (eq. 41)
-                    held &= 0.5 * (stick_offset(spec, accel, c_values, mu_lo)
-                                   - stick_offset(spec, accel, c_values, mu_hi)) <= spec.tolerance
+                    with np.errstate(invalid="ignore"):  # inf - inf where the strip does not hold: dropped
+                        held &= 0.5 * (stick_offset(spec, accel, c_values, mu_lo)
+                                       - stick_offset(spec, accel, c_values, mu_hi)) <= spec.tolerance
                 for c in c_values[held]:
                     found.append(Motion(float(period), float(accel), float(limit), float(stroke), float(c),
                                         best.profile.breaks * s_lo.T,

@@ -462,6 +462,11 @@ def _optimal(spec: DesignSpec, progress: str) -> Design:
             why = ("no motion of the optimal family moves the part at mu_max, is held by the strip at mu_min "
                    "(A <= r c_mu mu_min g, eq. 41) and meets the stroke limits" if first is None else
                    f"no candidate of the optimal family checked is guaranteed; the fastest: {first[1].failure[0]}")
+            if first is not None and spec.accumulation and not first[1].accumulates[0]:
+                step = float(np.nanmin(first[1].vbar[0])) * first[0].period
+                why += (f"; its advance per period, {1e3 * step:.3g} mm, is {step / spec.width:.3g} widths of the "
+                        f"friction transition: a part that slides across most of it at once ends past x_stick_min "
+                        f"instead of approaching it in shrinking steps (Sect. 7)")
         if first is None:
             return Design(spec, False, why, *(math.nan,) * 5, 0, math.nan, math.nan, math.nan, None, {}, {},
                           search, family=OPTIMAL)
