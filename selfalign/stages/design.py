@@ -8,15 +8,17 @@ a line of the log), and the chosen design's stop at the nominal mu as a rerun re
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
+import yaml
 
 from ..analysis.design import design, design_map
 from ..analysis.optimal_motion import centred_motion
 from ..io.design_result import design_content
 from ..io.design_spec import load_design_spec
 from ..io.recording import Recording
-from ..io.simulation_result import simulation_recording, trajectory_content
+from ..io.simulation_result import _parameters, simulation_recording, trajectory_content
 from ..model.friction import StopZone
 from ..model.profiles import PiecewiseConstantProfile, ThreePhaseProfile
 from ..model.scene import Record, Scene
@@ -62,7 +64,21 @@ def stop_scene(result: dict) -> Scene:
 
 
 def stop_recording(result: dict) -> Recording:
-    """The rerun recording of the chosen design's stop (:func:`stop_scene`)."""
+    """The rerun recording of the chosen design's stop (:func:`stop_scene`).
+
+    A scene file holds no piecewise-constant profile, so for a design of the optimal family the
+    recording is built with the surface of a stand-in scene (same stop zone and period) and its
+    documents give the true scene, the motion's pieces included."""
     scene = stop_scene(result)
     datasets, attrs, groups = trajectory_content(simulate(scene), scene)
-    return simulation_recording({"datasets": datasets, "attrs": attrs, "groups": groups})
+    if result["attrs"].get("family", "three_phase") == "three_phase":
+        return simulation_recording({"datasets": datasets, "attrs": attrs, "groups": groups})
+    stored = scene.to_dict()
+    stored["profile"] = {"kind": "piecewise_constant", "dt": float(scene.profile.dt),
+                         "breaks": scene.profile.breaks.tolist(), "accels": scene.profile.accels.tolist()}
+    stand_in = {**{k: v for k, v in stored.items() if k != "record"}, "solver": {"method": "moreau"},
+                "profile": {"kind": "fourier", "dt": float(scene.profile.dt), "cos_coeffs": [0.0], "sin_coeffs": [1.0]}}
+    recording = simulation_recording({"datasets": datasets, "attrs": {**attrs, "scene": yaml.safe_dump(stand_in)},
+                                      "groups": groups})
+    return replace(recording, documents={"scene": (yaml.safe_dump(stored, sort_keys=False), "text/plain"),
+                                         "parameters": (_parameters(attrs, stored), "text/markdown")})

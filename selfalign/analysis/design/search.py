@@ -264,7 +264,12 @@ def _pareto(cost_a, cost_b) -> np.ndarray:
 
 
 def design(spec: DesignSpec, *, progress: str = "auto") -> Design:
-    """The guaranteed three-phase design of ``spec`` (module docstring) and its trade-offs.
+    """The guaranteed design of ``spec`` (module docstring) and its trade-offs.
+
+    The families searched are ``spec.families``: the paper's three-phase profiles (the default)
+    and the fastest table motions (``selfalign.analysis.design.optimal``); with both, the faster
+    guaranteed design wins (under the objective "robustness" a guaranteed three-phase design stays)
+    and keeps the other family's best as ``other``, ``gain`` comparing them.
 
     The trade-offs: ``front_time_error`` (the designs not dominated in closed-form process
     time and end spread over mu, the first ``FRONT_SIMULATED`` of them simulated: ``t_arrive``,
@@ -305,7 +310,9 @@ def design(spec: DesignSpec, *, progress: str = "auto") -> Design:
         phase times); ``case`` of Table 1 and ``vbar`` [m/s] at the nominal mu, ``vbar_min``
         over the range, ``margin`` (robustness margin); the simulated ``verification``,
         ``t_arrive``, ``t_rest`` [s] (worst over the mu samples), ``x_d`` and ``error`` [m]
-        from the strip's edge; the fronts and ``search`` (counts and the time taken).
+        from the strip's edge; the fronts and ``search`` (counts and the time taken);
+        ``family`` ("three_phase" or "optimal"), ``motion`` (an optimal design's pieces),
+        ``other`` and ``gain`` (with both families searched).
 
     Raises
     ------
