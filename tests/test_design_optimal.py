@@ -4,6 +4,7 @@ simulated one, the paper's family alone is today's search, and bad family names 
 
 from __future__ import annotations
 
+import json
 import math
 
 import numpy as np
@@ -153,3 +154,30 @@ def test_bad_family_in_a_spec_file_refused():
         design_spec_from_dict(data, source="x.yaml")
     data["profile"]["families"] = ["optimal", "three_phase"]
     assert design_spec_from_dict(data, source="x.yaml").families == ("optimal", "three_phase")
+
+
+def test_cli_and_result_file_name_the_family_and_the_gain(tmp_path):
+    """Hypothesis: the family of the chosen design and the gain reach the user (the tutorial's "Two profile
+    families"): `selfalign design --json` gives them, the report ends with the families line and the result
+    file has the attribute family and the group gain with the simulated times."""
+    from click.testing import CliRunner
+
+    from selfalign.cli.commands import selfalign as cli
+    from selfalign.io.hdf5 import read_h5
+
+    spec = tmp_path / "station.yaml"
+    spec.write_text("machine: {mu: 0.2, mu_uncertainty: 0.05, c_mu: 3.0}\npart: {width: 2.0e-3}\n"
+                    "actuator: {stroke: 1.0e-3, acceleration: 8.0, period: {min: 0.01, max: 0.1}}\n"
+                    "task: {distance: 4.0e-3, tolerance: 250.0e-6}\nprofile: {families: [three_phase, optimal]}\n"
+                    "search: {periods: 2, strokes: 1, accelerations: 4, c_mu: 1, mu_samples: 3, max_verified: 4}\n")
+    out = tmp_path / "design.h5"
+    answer = CliRunner().invoke(cli, ["design", str(spec), "--json", "-o", str(out)])
+    assert answer.exit_code == 0, answer.output
+    summary = json.loads(answer.output[:answer.output.rindex("}") + 1])
+    assert summary["family"] == "optimal" and summary["gain"]["three_phase"]["found"]
+    assert summary["gain"]["arrive_ratio"] > 1.0
+    stored = read_h5(out)
+    assert stored["attrs"]["family"] == "optimal"
+    gain = stored["groups"]["gain"]["datasets"]
+    assert gain["t_arrive"][1] == pytest.approx(summary["t_arrive_s"], rel=1e-12)
+    assert "families (simulated" in stored["attrs"]["report"].splitlines()[-1]
