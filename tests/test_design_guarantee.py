@@ -44,6 +44,11 @@ DENSE_MU, DENSE_ENTRIES = 61, 432
 END_TOL = 1e-9
 
 
+def paper_spec(name: str) -> DesignSpec:
+    """The example spec ``name`` of workflow/designs/ restricted to the paper's three-phase family."""
+    return dataclasses.replace(load_design_spec(ROOT / f"workflow/designs/{name}.yaml"), families=("three_phase",))
+
+
 def chosen(result) -> Candidates:
     return Candidates(*(np.array([getattr(result, k)]) for k in ("period", "stroke", "y2", "y3", "c_mu")))
 
@@ -95,7 +100,7 @@ def test_accumulating_design_error_is_the_eq41_range_over_the_interval():
     """Hypothesis (eq. 41, Sect. 7.3): when every entry accumulates, the ends are x_stick_min(mu),
     which falls with mu, so the bound is exactly [x_stick_min(mu_max), x_stick_min(mu_min)]: the
     error equals the closed-form half-range end_spread and x_d its middle."""
-    spec = load_design_spec(ROOT / "workflow/designs/smd_steel_table.yaml")
+    spec = paper_spec("smd_steel_table")
     result = design(spec, progress="quiet")
     assert result.found and result.verification.accumulates[0]
     assert result.error == pytest.approx(float(end_spread(spec, chosen(result))[0]), rel=1e-9)
@@ -108,7 +113,7 @@ def test_tolerance_between_sampled_and_dense_spread_is_not_guaranteed():
     region, 4.07 Hz, 10 mm) has sampled ends spread +-1351.6 um, while no end lies below
     x_stick_min(mu_max) = 941.7 um (eq. 41) and dense entries reach 943.7 um: a tolerance of
     1353 um in between is not guaranteed, and every dense end lies inside x_d +- error."""
-    spec = dataclasses.replace(load_design_spec(ROOT / "workflow/designs/cam_drive.yaml"), accumulation=False)
+    spec = dataclasses.replace(paper_spec("cam_drive"), accumulation=False)
     cand = chosen(design(spec, progress="quiet"))
     tight = dataclasses.replace(spec, tolerance=1353e-6)
     ver = verify(tight, cand)
@@ -124,7 +129,7 @@ def test_max_process_time_is_checked_over_the_mu_interval():
     """Hypothesis: the process time bound (worst_process_time) is at least the process time of the
     run from rest at 61 values of mu over the interval, and a max_process_time between the worst
     sample and that bound is not guaranteed (smd_robust's design, accumulation)."""
-    spec = load_design_spec(ROOT / "workflow/designs/smd_robust.yaml")
+    spec = paper_spec("smd_robust")
     result = design(spec, progress="quiet")
     cand = chosen(result)
     limit = result.t_arrive + 1e-3
@@ -145,7 +150,7 @@ def test_realistic_design_holds_under_dense_simulation():
     """Hypothesis: smd_realistic's guaranteed design (static/kinetic friction r = 1.2, no
     accumulation: every end at rest above x_stick_min, eq. 41) has every one of 61 mu x 432
     dense entries end at rest inside x_d +- error, and error <= tolerance."""
-    spec = load_design_spec(ROOT / "workflow/designs/smd_realistic.yaml")
+    spec = paper_spec("smd_realistic")
     result = design(spec, progress="quiet")
     assert result.found and result.error <= spec.tolerance
     ends = dense_ends(spec, chosen(result))

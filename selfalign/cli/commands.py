@@ -337,12 +337,14 @@ def positioning_command(dt, dy, y2, y3, si, w, c_mu, n_entries, offset, max_peri
 @debug_option
 @reported
 def design_command(spec_file: Path, output: Path | None, as_json: bool) -> int:
-    """Search the three-phase profiles (Sect. 4.4.3) inside the actuator's limits of a design spec
+    """Search the three-phase profiles (Sect. 4.4.3), and the fastest table motions where the spec's
+    profile.families asks for them, inside the actuator's limits of a design spec
     (SI units) for the least process time or the largest mu margin, and certify the choice: at
     every mu sample every steady-state entry into the strip ends at rest (or accumulates, eq. 41
     and Sect. 7.3), simulated with the batched exact solver, or Moreau where the spec's effects
     (Stribeck friction, y'' ramps) need it.  Exit code 1 if no design meets the spec; the report
-    then says which constraint binds."""
+    then says which constraint binds.  The output names the chosen design's family and, with both
+    families searched, compares them (time to first arrival and to rest, simulated)."""
     result = design(load_design_spec(spec_file))
     if as_json:
         click.echo(json.dumps(design_summary(result), indent=2))
@@ -356,13 +358,17 @@ def design_command(spec_file: Path, output: Path | None, as_json: bool) -> int:
 
 def design_summary(result) -> dict:
     """The chosen design's numbers in SI (JSON: null for NaN)."""
-    out = {"name": result.spec.name, "found": result.found, "explanation": result.explanation}
+    out = {"name": result.spec.name, "found": result.found, "explanation": result.explanation,
+           "family": result.family}
     if result.verification is not None:
-        times = result.times
+        if result.motion is None:
+            times = result.times
+            out.update({"t1_s": float(times.t1), "t2_s": float(times.t2), "t3_s": float(times.t3)})
+        else:
+            out.update({"breaks_s": result.motion.breaks.tolist(), "accels_m_s2": result.motion.accels.tolist()})
         out.update({
             "period_s": result.period, "frequency_hz": result.frequency, "stroke_m": result.stroke,
             "y2_m_s2": result.y2, "y3_m_s2": result.y3, "c_mu": result.c_mu,
-            "t1_s": float(times.t1), "t2_s": float(times.t2), "t3_s": float(times.t3),
             "case": result.case, "case_label": result.case_label, "vbar_m_s": result.vbar,
             "vbar_min_m_s": result.vbar_min, "t_arrive_s": result.t_arrive, "t_rest_s": result.t_rest,
             "t_worst_s": result.t_worst,
@@ -374,6 +380,10 @@ def design_summary(result) -> dict:
             "frac_accumulate": result.verification.frac_accumulate[0].tolist(),
             "effects": result.spec.effects(), "method": result.verification.method,
         })
+    if result.gain is not None:
+        out["gain"] = {key: ({k: finite_or_none(v) if isinstance(v, float) else v for k, v in value.items()}
+                             if isinstance(value, dict) else finite_or_none(value))
+                       for key, value in result.gain.items()}
     out["assumptions"] = list(result.assumptions)
     return {key: finite_or_none(value) if isinstance(value, (float, list)) and key != "assumptions" else value
             for key, value in out.items()}

@@ -16,15 +16,13 @@ def design_report(design, *, timed: bool = True) -> str:
         lines.append(f"NO GUARANTEED DESIGN: {design.explanation}")
     if design.verification is None:
         return "\n".join(lines)
-    v, t = design.verification, design.times
+    v = design.verification
     lines += [
         ("" if design.found else "the fastest candidate checked, NOT guaranteed: ") +
-        f"profile: period {1e3 * design.period:.4g} ms ({design.frequency:.4g} Hz), "
+        f"profile ({_FAMILY_NAMES[design.family]}): period {1e3 * design.period:.4g} ms ({design.frequency:.4g} Hz), "
         f"stroke {1e3 * design.stroke:.4g} mm, "
         f"y2'' = {design.y2:.4g} m/s^2, y3'' = {design.y3:.4g} m/s^2, c_mu = {design.c_mu:.4g}",
-        f"phases: y'' = 0 on [0, {1e3 * float(t.t1):.4g}) ms, -y2'' on [.., {1e3 * float(t.t2):.4g}) ms, "
-        f"+y3'' on [.., {1e3 * design.period:.4g}) ms; y_ini = {1e3 * float(t.y_ini):.4g} mm, "
-        f"y'_ini = {float(t.yd_ini):.4g} m/s",
+        _phases(design),
         f"case {design.case} ({design.case_label}) at mu = {design.spec.mu:g}; vbar = {1e3 * design.vbar:.4g} mm/s "
         f"(slowest over the mu range {1e3 * design.vbar_min:.4g} mm/s)",
         f"process time from rest {1e3 * design.spec.distance:g} mm before the strip at t = 0: first within "
@@ -57,4 +55,35 @@ def design_report(design, *, timed: bool = True) -> str:
         f"effects are declared), {design.search['verified']} simulated"
         + (f", {design.search['seconds']:.2g} s" if timed else ""),
     ]
+    if design.gain is not None:
+        lines.append(gain_line(design.gain))
     return "\n".join(lines)
+
+
+#: The families in words.
+_FAMILY_NAMES = {"three_phase": "the paper's three-phase family", "optimal": "the optimal family"}
+
+
+def _phases(design) -> str:
+    """The pieces of the profile as text."""
+    if design.motion is None:
+        t = design.times
+        return (f"phases: y'' = 0 on [0, {1e3 * float(t.t1):.4g}) ms, -y2'' on [.., {1e3 * float(t.t2):.4g}) ms, "
+                f"+y3'' on [.., {1e3 * design.period:.4g}) ms; y_ini = {1e3 * float(t.y_ini):.4g} mm, "
+                f"y'_ini = {float(t.yd_ini):.4g} m/s")
+    m = design.motion
+    return (f"pieces ({m.family}): " + ", ".join(f"y'' = {a:.4g} m/s^2 until {1e3 * b:.4g} ms"
+                                                 for a, b in zip(m.accels, m.breaks[1:]))
+            + "; the part sticks on the base at the last level of each sub-cycle")
+
+
+def gain_line(gain: dict) -> str:
+    """The two families compared (``Design.gain``) as one line."""
+    parts = []
+    for family in ("three_phase", "optimal"):
+        g = gain[family]
+        parts.append(f"{family}: vbar {1e3 * g['vbar']:.4g} mm/s, first arrival {g['t_arrive']:.4g} s, rest "
+                     f"{g['t_rest']:.4g} s" if g["found"] else f"{family}: none guaranteed ({g['why_not']})")
+    ratio = (f"; gain of the optimal family: first arrival x{gain['arrive_ratio']:.3g}, rest x{gain['rest_ratio']:.3g}"
+             if gain["three_phase"]["found"] and gain["optimal"]["found"] else "")
+    return "families (simulated, worst over the mu samples): " + "; ".join(parts) + ratio

@@ -91,6 +91,7 @@ def design_spec_from_dict(data, source: str = "<design>", name: str | None = Non
             objective=task.get("objective", "process_time"), max_process_time=task.get("max_process_time"),
             name=data.get("name", name or "design"), grid=DesignGrid(**data.get("search", {})),
             friction=FrictionLaw(**friction), ramp=actuator.get("ramp"),
+            families=tuple(data.get("profile", {}).get("families", ("three_phase",))),
         )
     except ValueError as exc:
         raise DesignSpecError(f"{source}: {exc}") from None
@@ -106,7 +107,8 @@ def load_design_spec(path) -> DesignSpec:
     {min, max}, g), ``part`` (width), ``actuator`` (stroke as a number or {min, max},
     acceleration, exactly one of frequency [Hz] and period [s] as {min, max}, ramp),
     ``task`` (distance, tolerance, accumulation, objective, max_process_time) and optionally
-    ``friction``, ``search`` (the ``selfalign.model.design_spec.DesignGrid``), ``name``
+    ``friction``, ``profile`` (families: the profile families searched, three_phase and/or
+    optimal), ``search`` (the ``selfalign.model.design_spec.DesignGrid``), ``name``
     and ``description``.  Every problem is one line naming the file and the key, e.g.
     ``workflow/designs/x.yaml: actuator.acceleration: must be > 0, got -3``.
 

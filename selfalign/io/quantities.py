@@ -375,6 +375,17 @@ QUANTITIES.update({
     "profile/t3": Quantity("si_time", "end of the period"),
     "profile/y_ini": Quantity("si_length", "table position at t = 0 (its minimum is 0)"),
     "profile/yd_ini": Quantity("si_velocity", "table velocity at t = 0"),
+    "profile/breaks": Quantity("si_time", "optimal family: the times at which y'' changes, from 0 to the period"),
+    "profile/accels": Quantity("si_acceleration", "optimal family: the table acceleration y'' on each piece"),
+    "gain/found": Quantity("boolean", "[three_phase, optimal]: a guaranteed design of the family exists"),
+    "gain/vbar": Quantity("si_velocity", "[three_phase, optimal]: vbar (eq. 10) of the family's design at the "
+                                         "nominal mu"),
+    "gain/t_arrive": Quantity("si_time", "[three_phase, optimal]: worst simulated time until within the tolerance "
+                                         "of x_d (NaN: no guaranteed design)"),
+    "gain/t_rest": Quantity("si_time", "[three_phase, optimal]: worst simulated time until rest or accumulation "
+                                       "(NaN: no guaranteed design)"),
+    "gain/arrive_ratio": Quantity("number", "t_arrive of the three-phase design over that of the optimal one"),
+    "gain/rest_ratio": Quantity("number", "t_rest of the three-phase design over that of the optimal one"),
     "performance/vbar": Quantity("si_velocity", "steady average velocity vbar (eq. 10) at the nominal mu"),
     "performance/vbar_min": Quantity("si_velocity", "slowest vbar over the mu range (closed form)"),
     "performance/margin": Quantity("number", "robustness margin: relative mu deviation the closed forms allow"),

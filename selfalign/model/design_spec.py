@@ -16,6 +16,9 @@ from .friction import FrictionLaw
 from .profiles import MIN_RAMP_FRACTION
 
 OBJECTIVES = ("process_time", "robustness")
+#: Profile families the design tool searches: the paper's three-phase profile (Sect. 4.4.3) and the
+#: fastest table motion (docs/explanation/optimal-motion.md).
+FAMILIES = ("three_phase", "optimal")
 #: Most designs a search grid may hold (periods x strokes x accelerations^2 x c_mu values): the
 #: closed-form screening needs about :data:`BYTES_PER_DESIGN` bytes and 4 us per design (921,600
 #: designs, the default grid of a c_mu range: 0.23 GB, 3.6 s).
@@ -134,6 +137,10 @@ class DesignSpec:
         The time [s] over which y'' ramps linearly at each switch of the three-phase profile
         (finite jerk; None: the paper's jumps); shorter than a third of the longest period and
         at least 2^-48 times it.
+    families : tuple of str, optional
+        The profile families searched, among "three_phase" (the paper's, Sect. 4.4.3) and
+        "optimal" (the fastest table motion, docs/explanation/optimal-motion.md); the faster
+        guaranteed design wins.  Default ("three_phase",).
 
     Attributes
     ----------
@@ -148,8 +155,8 @@ class DesignSpec:
         If a number of the spec is not a real number.
     ValueError
         If a value is outside its range above (the message names the key), ``friction`` is
-        not a FrictionLaw, ``grid`` is not a DesignGrid, or the grid holds more than
-        4,000,000 designs.
+        not a FrictionLaw, ``grid`` is not a DesignGrid, the grid holds more than
+        4,000,000 designs, or ``families`` is empty, repeats a name or names another family.
 
     See Also
     --------
@@ -186,8 +193,15 @@ class DesignSpec:
     grid: DesignGrid = field(default_factory=DesignGrid)
     friction: FrictionLaw = field(default_factory=FrictionLaw)
     ramp: float | None = None
+    families: tuple[str, ...] = ("three_phase",)
 
     def __post_init__(self):
+        families = self.families
+        if isinstance(families, str) or not isinstance(families, (tuple, list)) or not families \
+                or any(f not in FAMILIES for f in families) or len(set(families)) != len(families):
+            raise ValueError(f"profile.families must be a non-empty list of distinct names among "
+                             f"{', '.join(FAMILIES)}, got {families!r}")
+        object.__setattr__(self, "families", tuple(families))
         if not isinstance(self.friction, FrictionLaw):
             raise ValueError(f"friction must be a FrictionLaw, got {type(self.friction).__name__}")
         if self.ramp is not None:

@@ -2,8 +2,12 @@
 
 The two objectives of Sect. 2: bring the part to x_d in the least process time T_p and stop
 it there with the smallest positioning error Delta_x_d.  :func:`design` searches the
-three-phase profiles (Sect. 4.4.3) inside an actuator's limits, in SI units
-(:class:`~selfalign.model.design_spec.DesignSpec`), and certifies the one it returns.
+three-phase profiles (Sect. 4.4.3) and, where the spec's ``families`` ask for it, the fastest
+table motions (:mod:`.optimal`, docs/explanation/optimal-motion.md) inside an actuator's limits,
+in SI units (:class:`~selfalign.model.design_spec.DesignSpec`), and certifies the one it returns;
+with both families the faster guaranteed design wins and ``Design.gain`` compares them.  What
+follows describes the three-phase search; the optimal family is verified in the same way
+(:func:`~.optimal.verify_motions`), without the closed forms of the paper's profile.
 
 Scaling (Sect. 3.2).  The length scale is the part's width, L = w~ (so w = 1), and
 T = sqrt(L / (mu g)).  A fixed SI profile (period P, stroke S, accelerations A2, A3) is,
@@ -49,6 +53,7 @@ The guarantee is as strong as the model (:data:`ASSUMPTIONS`, with the spec's ef
 ``Design.assumptions``).
 
 Modules: :mod:`.candidates` (the grid and the scaling), :mod:`.screening` (closed forms),
+:mod:`.optimal` (the optimal family: its candidates and their simulated guarantee),
 :mod:`.verification` (the simulated guarantee and its bounds), :mod:`.search` (:func:`design`),
 :mod:`.explanation` (why no design meets a spec), :mod:`.design_map`.  The design as text is
 presentation: :func:`selfalign.io.design_report.design_report`.
@@ -58,11 +63,12 @@ from __future__ import annotations
 
 from .candidates import Candidates, dimensionless, friction_at, mu_values, ramp_at, scale, search_grid
 from .design_map import DesignMap, design_map
+from .optimal import Motion, motions, verify_motions
 from .screening import Screen, end_spread, robustness_margin, screen
 from .search import ASSUMPTIONS, Design, design
 from .verification import Verification, end_bounds, mu_sup, phase_sup, sufficient_condition, verify, worst_process_time
 
-__all__ = ["ASSUMPTIONS", "Candidates", "Design", "DesignMap", "Screen", "Verification", "design",
-           "design_map", "dimensionless", "end_bounds", "end_spread", "friction_at", "mu_sup", "mu_values",
+__all__ = ["ASSUMPTIONS", "Candidates", "Design", "DesignMap", "Motion", "Screen", "Verification", "design",
+           "design_map", "dimensionless", "end_bounds", "end_spread", "friction_at", "motions", "mu_sup", "mu_values",
            "phase_sup", "ramp_at", "robustness_margin", "scale", "screen", "search_grid", "sufficient_condition",
-           "verify", "worst_process_time"]
+           "verify", "verify_motions", "worst_process_time"]

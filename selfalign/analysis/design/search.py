@@ -4,22 +4,26 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from ...model.design_spec import FRONT_SIMULATED, DesignSpec
 from ...model.profiles import (
     CASE_LABELS,
+    PiecewiseConstantProfile,
     ThreePhaseProfile,
     finite_jerk_times,
     three_phase_feasibility,
     three_phase_times,
 )
-from ...progress import Progress
+from ...progress import Progress, resolve_mode
+from ..optimal_motion import steady_mean_velocity
 from ..steady_state import steady_state_grid
-from .candidates import Candidates, dimensionless, scale, search_grid
+from .candidates import Candidates, dimensionless, friction_at, scale, search_grid
 from .explanation import _explain
+from .optimal import FAMILY as OPTIMAL
+from .optimal import Motion, motions, t_estimate, unavailable, verify_motions
 from .screening import end_spread, robustness_margin, screen
 from .verification import Verification, verify
 
@@ -68,6 +72,12 @@ class Design:
         The engine's results (Attributes).
     front_time_error, front_time_margin, search : dict
         The fronts and the search counts (Attributes).
+    family : str, optional
+        The profile family (Attributes).  Default "three_phase".
+    motion : ``Motion`` or None, optional
+        The optimal family's motion (Attributes).  Default None.
+    other : Design or None, optional
+        The best design of the other family searched (Attributes).  Default None.
 
     Attributes
     ----------
@@ -103,6 +113,18 @@ class Design:
         Closed-form process time against the robustness margin.
     search : dict
         Counts of the search (designs, screened, verified, entries) and its time [s].
+    family : str
+        The profile family of the design: "three_phase" (the paper's: y'' = 0, -y2'', +y3'') or
+        "optimal" (the fastest table motion: y'' = -y2'', +y2'', then the stick level y3'' while the
+        part sticks, ``motion``).
+    motion : ``Motion`` or None
+        The optimal family's motion in SI (its pieces), None for the three-phase family.
+    other : Design or None
+        The best design of the other family when both were searched (found or not), else None.
+    gain : dict or None
+        With ``other``: per family ("three_phase", "optimal") its found, vbar [m/s], t_arrive and
+        t_rest [s] (simulated, worst over the mu samples) and why not (its explanation), and the
+        ratios old/new of t_arrive and t_rest (NaN unless both were found).
     frequency : float
         1 / period [Hz].
     times : ``ThreePhaseTimes``
@@ -156,6 +178,20 @@ class Design:
     front_time_error: dict
     front_time_margin: dict
     search: dict
+    family: str = "three_phase"
+    motion: Motion | None = None
+    other: Design | None = None
+
+    @property
+    def gain(self) -> dict | None:
+        if self.other is None:
+            return None
+        by = {d.family: {"found": bool(d.found), "vbar": d.vbar,
+                         "t_arrive": d.t_arrive if d.found else math.nan,
+                         "t_rest": d.t_rest if d.found else math.nan, "why_not": d.explanation}
+              for d in (self, self.other)}
+        old, new = by["three_phase"], by[OPTIMAL]
+        return {**by, "arrive_ratio": old["t_arrive"] / new["t_arrive"], "rest_ratio": old["t_rest"] / new["t_rest"]}
 
     @property
     def frequency(self) -> float:
@@ -163,7 +199,9 @@ class Design:
 
     @property
     def times(self):
-        """Phase times etc. of the SI profile (the Appendix's closed form is scale-free)."""
+        """Phase times etc. of the SI three-phase profile (the Appendix's closed form is scale-free)."""
+        if self.family == OPTIMAL:
+            raise ValueError("times are the three-phase profile's; an optimal design's pieces are design.motion")
         return three_phase_times(self.period, self.stroke, self.y2, self.y3)
 
     @property
@@ -188,7 +226,7 @@ class Design:
 
     @property
     def case_label(self) -> str:
-        return CASE_LABELS[self.case]
+        return f"fastest table motion, {self.motion.family}" if self.family == OPTIMAL else CASE_LABELS[self.case]
 
     @property
     def assumptions(self) -> tuple[str, ...]:
@@ -199,10 +237,15 @@ class Design:
         profile = ASSUMPTIONS[3] if ramp is None else (
             f"the three-phase profile with y'' ramps of {1e3 * ramp:g} ms at each switch (finite jerk), no actuator "
             f"dynamics")
+        if self.family == OPTIMAL:
+            profile = ("the exact pieces of the fastest table motion (docs/explanation/optimal-motion.md): jumps in "
+                       "y'', no jerk limit, no actuator dynamics")
         return (ASSUMPTIONS[0], friction, ASSUMPTIONS[2], profile, *ASSUMPTIONS[4:])
 
-    def profile_at(self, mu: float) -> ThreePhaseProfile:
+    def profile_at(self, mu: float) -> ThreePhaseProfile | PiecewiseConstantProfile:
         """The dimensionless profile the model sees at friction coefficient ``mu`` (L = width)."""
+        if self.family == OPTIMAL:
+            return self.motion.profile_at(self.spec, mu)
         cand = Candidates(*(np.array([v]) for v in (self.period, self.stroke, self.y2, self.y3, self.c_mu)))
         return ThreePhaseProfile(*(float(a[0]) for a in dimensionless(self.spec, cand, mu)))
 
@@ -221,7 +264,12 @@ def _pareto(cost_a, cost_b) -> np.ndarray:
 
 
 def design(spec: DesignSpec, *, progress: str = "auto") -> Design:
-    """The guaranteed three-phase design of ``spec`` (module docstring) and its trade-offs.
+    """The guaranteed design of ``spec`` (module docstring) and its trade-offs.
+
+    The families searched are ``spec.families``: the paper's three-phase profiles (the default)
+    and the fastest table motions (``selfalign.analysis.design.optimal``); with both, the faster
+    guaranteed design wins (under the objective "robustness" a guaranteed three-phase design stays)
+    and keeps the other family's best as ``other``, ``gain`` comparing them.
 
     The trade-offs: ``front_time_error`` (the designs not dominated in closed-form process
     time and end spread over mu, the first ``FRONT_SIMULATED`` of them simulated: ``t_arrive``,
@@ -262,7 +310,9 @@ def design(spec: DesignSpec, *, progress: str = "auto") -> Design:
         phase times); ``case`` of Table 1 and ``vbar`` [m/s] at the nominal mu, ``vbar_min``
         over the range, ``margin`` (robustness margin); the simulated ``verification``,
         ``t_arrive``, ``t_rest`` [s] (worst over the mu samples), ``x_d`` and ``error`` [m]
-        from the strip's edge; the fronts and ``search`` (counts and the time taken).
+        from the strip's edge; the fronts and ``search`` (counts and the time taken);
+        ``family`` ("three_phase" or "optimal"), ``motion`` (an optimal design's pieces),
+        ``other`` and ``gain`` (with both families searched).
 
     Raises
     ------
@@ -300,6 +350,30 @@ def design(spec: DesignSpec, *, progress: str = "auto") -> Design:
     if not isinstance(spec, DesignSpec):
         raise TypeError(f"design needs a DesignSpec (selfalign.io.design_spec.load_design_spec reads one), "
                          f"got {type(spec).__name__}")
+    resolve_mode(progress)  # refuses a bad mode before any work
+    paper = _three_phase(spec, progress) if "three_phase" in spec.families else None
+    best = _optimal(spec, progress) if OPTIMAL in spec.families else None
+    if best is None or paper is None:
+        return paper if best is None else best
+    if _beats(spec, best, paper):  # the trade-off fronts are the three-phase search's
+        return replace(best, front_time_error=paper.front_time_error, front_time_margin=paper.front_time_margin,
+                       other=paper)
+    return replace(paper, other=best)
+
+
+def _beats(spec: DesignSpec, new: Design, old: Design) -> bool:
+    """Whether the optimal design ``new`` wins over the three-phase ``old``: guaranteed, and ``old`` is not
+    or arrives later (with the objective "robustness" the margin, a closed form of the paper's profile,
+    decides: a guaranteed three-phase design stays)."""
+    if not new.found:
+        return False
+    if not old.found:
+        return True
+    return spec.objective == "process_time" and new.t_arrive < old.t_arrive
+
+
+def _three_phase(spec: DesignSpec, progress: str) -> Design:
+    """The guaranteed three-phase design (the package docstring)."""
     start = time.perf_counter()
     cand = search_grid(spec)
     designs = len(cand)
@@ -362,6 +436,54 @@ def design(spec: DesignSpec, *, progress: str = "auto") -> Design:
                   float(d.y3[0]), float(d.c_mu[0]), int(nominal.case[0]),
                   float(nominal.vbar[0] * scale(spec, spec.mu).unit("velocity")), float(scr.vbar_min[index]),
                   float(margin[index]), ver, front_te, front_tm, search)
+
+
+def _optimal(spec: DesignSpec, progress: str) -> Design:
+    """The guaranteed design of the optimal family (:mod:`.optimal`): its candidates verified best first
+    in batches until one is guaranteed and no later one can arrive sooner (by the ranking's time less one
+    period), at most ``grid.max_verified``."""
+    start = time.perf_counter()
+    why = unavailable(spec)
+    cands = [] if why else motions(spec)
+    count = min(len(cands), spec.grid.max_verified)
+    chosen, first, verified = None, None, 0
+    with Progress(count, f"design {spec.name} ({OPTIMAL})", unit="candidates", mode=progress) as bar:
+        for begin in range(0, count, BATCH):
+            batch = cands[begin:begin + BATCH]
+            ver = verify_motions(spec, batch)
+            verified += len(batch)
+            bar.advance(len(batch))
+            first = first or (batch[0], _row(ver, 0))
+            for i in np.flatnonzero(ver.guaranteed):
+                t = float(np.max(ver.t_arrive[i]))
+                if chosen is None or t < float(np.max(chosen[1].t_arrive[0])):
+                    chosen = (batch[int(i)], _row(ver, int(i)))
+            following = cands[begin + BATCH:count]
+            if chosen is not None and (not following or min(t_estimate(spec, m) for m in following)
+                                       - spec.period[1] > float(np.max(chosen[1].t_arrive[0]))):
+                break
+    search = {"designs": len(cands), "ramps_do_not_fit": 0, "screened": len(cands), "verified": verified,
+              "entries": spec.grid.entries, "seconds": time.perf_counter() - start}
+    if chosen is None:
+        if not why:
+            why = ("no motion of the optimal family moves the part at mu_max, is held by the strip at mu_min "
+                   "(A <= r c_mu mu_min g, eq. 41) and meets the stroke limits" if first is None else
+                   f"no candidate of the optimal family checked is guaranteed; the fastest: {first[1].failure[0]}")
+            if first is not None and spec.accumulation and not first[1].accumulates[0]:
+                step = float(np.nanmin(first[1].vbar[0])) * first[0].period
+                why += (f"; its advance per period, {1e3 * step:.3g} mm, is {step / spec.width:.3g} widths of the "
+                        f"friction transition: a part that slides across most of it at once ends past x_stick_min "
+                        f"instead of approaching it in shrinking steps (Sect. 7)")
+        if first is None:
+            return Design(spec, False, why, *(math.nan,) * 5, 0, math.nan, math.nan, math.nan, None, {}, {},
+                          search, family=OPTIMAL)
+        chosen = first
+    motion, ver = chosen
+    nominal = steady_mean_velocity([motion.profile_at(spec, spec.mu)], friction_at(spec, spec.mu))
+    return Design(spec, bool(ver.guaranteed[0]), "" if ver.guaranteed[0] else why, motion.period, motion.stroke,
+                  motion.accel, float(motion.accels[-1]), motion.c_mu, 0,
+                  float(nominal[0] * scale(spec, spec.mu).unit("velocity")), float(np.nanmin(ver.vbar[0])),
+                  math.nan, ver, {}, {}, search, family=OPTIMAL, motion=motion)
 
 
 def _settled(spec, chosen, following, scr, margin) -> bool:
