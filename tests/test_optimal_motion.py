@@ -483,3 +483,63 @@ def test_bad_friction_and_ratio():
         optimal_vbar(1.0, 3.0, "1.5")
     with pytest.raises(ValueError, match="accel_max must exceed the static friction limit r = mu_s / mu_k = 3.0"):
         optimal_vbar(1.0, 3.0, 3.0)
+
+
+# ------------------------------------------------------------------------------------------
+# (f) A period range
+# ------------------------------------------------------------------------------------------
+
+def test_acceleration_limit_alone_takes_the_longest_period():
+    """Hypothesis ("A period range"): v* is proportional to dt, so over a range of periods the longest
+    wins, and "period" binds; the motion is the fastest motion at that period (v* to 1e-10), and a scan
+    of single periods within the range stays below it."""
+    best = optimal_profile((0.5, 2.0), 3.0, friction=law(1.5))
+    assert best.period == 2.0 and best.profile.dt == 2.0
+    assert best.binding == ("accel_max", "period") and best.family == "bang-bang-stick"
+    assert best.vbar == pytest.approx(optimal_vbar(2.0, 3.0, 1.5), rel=1e-10)
+    for period in (0.5, 1.0, 1.9):
+        assert optimal_profile(period, 3.0, friction=law(1.5)).vbar < best.vbar
+    assert optimal_profile(1.3, 3.0).period == 1.3
+
+
+def test_stroke_limit_takes_the_period_the_fastest_motion_fits():
+    """Hypothesis ("A period range"): up to the period t_fit at which the fastest motion's stroke
+    (0.11574 dt^2 at a = 3) meets the limit, v* is attained and grows with dt; beyond it, the stroke
+    limit binds and a scan of single periods over the rest of the range, every one solved by
+    optimal_profile, finds nothing faster than the motion returned (to 1e-6).  At stroke_max = 0.05 the
+    answer is t_fit = 0.6573 itself, with v*(t_fit) = 0.10954, inside the range: "period" does not bind."""
+    best = optimal_profile((0.5, 1.0), 3.0, stroke_max=0.05)
+    stroke_one = optimal_profile(1.0, 3.0).stroke
+    fit = math.sqrt(0.05 / stroke_one)
+    assert best.period == pytest.approx(fit, rel=1e-9)
+    assert best.vbar == pytest.approx(optimal_vbar(fit, 3.0), rel=1e-9)
+    assert "period" not in best.binding and best.family == "bang-bang-stick"
+    for period in (0.8, 1.0):
+        assert optimal_profile(period, 3.0, stroke_max=0.05).vbar <= best.vbar * (1.0 + BEATEN_BY)
+
+
+@pytest.mark.exhaustive
+@pytest.mark.parametrize("velocity_max, stroke_max", [(0.2, None), (None, 0.02), (0.3, 0.05)])
+def test_no_scanned_period_beats_the_period_range(velocity_max, stroke_max):
+    """Hypothesis ("A period range"): a scan of 40 single periods over the range, every one solved by
+    optimal_profile, finds nothing faster than the range's answer by more than 1e-6."""
+    best = optimal_profile((0.3, 2.5), 3.0, velocity_max=velocity_max, stroke_max=stroke_max)
+    for period in np.geomspace(0.3, 2.5, 40).tolist():
+        found = optimal_profile(period, 3.0, velocity_max=velocity_max, stroke_max=stroke_max).vbar
+        assert found <= best.vbar * (1.0 + BEATEN_BY), (period, found, best.vbar)
+
+
+@pytest.mark.parametrize("period, error, message", [
+    ((2.0, 1.0), ValueError, r"period must be a number or a pair \(min, max\) with min <= max"),
+    ((0.0, 1.0), ValueError, "period min must be > 0, got 0.0"),
+    ((1.0, math.inf), ValueError, "period max must be a finite number, got inf"),
+    ((1.0, float("nan")), ValueError, "period max must be a finite number, got nan"),
+    ((1.0, 2.0, 3.0), TypeError, r"period must be a real number or a pair \(min, max\)"),
+    (("1", 2.0), TypeError, "period min must be a real number"),
+])
+def test_bad_period_range(period, error, message, monkeypatch):
+    """A period range must be a pair (min, max) of finite numbers with 0 < min <= max: anything else is
+    refused with an error naming what is allowed, before any work."""
+    monkeypatch.setattr(om, "simulate_batch", _no_work)
+    with pytest.raises(error, match=message):
+        optimal_profile(period, 3.0)

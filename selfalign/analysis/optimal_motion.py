@@ -35,7 +35,7 @@ which must agree with the closed form of each candidate's slides.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -75,6 +75,10 @@ STRETCH = (0.3, 0.6)
 BINDING = 1e-6
 #: Agreement required between the exact solver's mean velocity and the closed form of the motion.
 CLOSED_FORM_RTOL = 1e-9
+#: A period range beyond the longest period the fastest motion fits: periods scanned per octave, at most in
+#: all, and the bounded scalar search around the best (relative tolerance, evaluations).
+PERIOD_SCAN, PERIOD_POINTS = 4, 16
+PERIOD_XTOL, PERIOD_REFINE = 1e-3, 8
 
 
 @dataclass(frozen=True)
@@ -101,6 +105,8 @@ class OptimalProfile:
         The largest table speed.
     stroke : float
         The table's stroke.
+    period : float, optional
+        The table's period, given or chosen within a range.  Default None.
 
     Attributes
     ----------
@@ -116,7 +122,8 @@ class OptimalProfile:
         table motion of the period beats it, and ``vbar`` equals it (up to ``ARRIVAL_MARGIN``) when no
         other limit binds.
     binding : tuple of str
-        The limits the motion uses to the full, among "accel_max", "velocity_max" and "stroke_max".
+        The limits the motion uses to the full, among "accel_max", "velocity_max", "stroke_max" and, for a
+        period range, "period" (the period chosen is an end of the range).
     family : str
         The structure of each sub-cycle (a slide and the stick after it), its constant-y'' pieces in order:
         "bang" (y'' = -+a, the part slides), "coast" (y'' = 0 while it slides), "ramp" (another level while
@@ -129,6 +136,9 @@ class OptimalProfile:
         max ``|y'|``.
     stroke : float
         max y - min y.
+    period : float or None
+        The table's period dt: the one given, or the one chosen within a range (None only when built
+        without it).
 
     See Also
     --------
@@ -151,6 +161,7 @@ class OptimalProfile:
     sub_cycles: int
     peak_velocity: float
     stroke: float
+    period: float | None = None
 
 
 def check_ratio(ratio) -> float:
@@ -768,8 +779,12 @@ def optimal_profile(period, accel_max, *, stroke_max=None, velocity_max=None, fr
 
     Parameters
     ----------
-    period : float
-        The table's period dt, dimensionless (Sect. 3.2); in [1e-30, 1e30].
+    period : float or (float, float)
+        The table's period dt, dimensionless (Sect. 3.2); in [1e-30, 1e30].  A pair (min, max),
+        0 < min <= max, lets the period be anything in that range: the fastest motion over the range is
+        returned, its period in ``.period``, and "period" is in ``.binding`` when it lies at an end.  Under
+        the acceleration limit alone the longest period wins (v* is proportional to dt); under speed and
+        stroke limits the period is searched (page, "A period range").
     accel_max : float
         a, the largest ``|y''|``; in [1e-30, 1e30] and above the friction ratio r.
     stroke_max : float, optional
@@ -789,10 +804,12 @@ def optimal_profile(period, accel_max, *, stroke_max=None, velocity_max=None, fr
     Raises
     ------
     TypeError
-        If a number is not a real number, or ``friction`` is not a FrictionLaw.
+        If a number is not a real number, ``period`` is a sequence other than a pair, or ``friction`` is
+        not a FrictionLaw.
     ValueError
-        If ``period`` or ``accel_max`` is not finite or lies outside [1e-30, 1e30], a limit is not finite
-        and > 0, ``friction`` is a Stribeck law, or ``accel_max`` <= r (nothing moves).
+        If ``period`` (or an end of its range) or ``accel_max`` is not finite or lies outside
+        [1e-30, 1e30], a period range has min > max, a limit is not finite and > 0, ``friction`` is a
+        Stribeck law, or ``accel_max`` <= r (nothing moves).
 
     See Also
     --------
@@ -819,22 +836,48 @@ def optimal_profile(period, accel_max, *, stroke_max=None, velocity_max=None, fr
     >>> tighter = sa.optimal_profile(1.0, 3.0, velocity_max=0.2)
     >>> print(tighter.family, tighter.sub_cycles, round(tighter.vbar, 5))
     bang-coast-bang-stick-dwell x 2 2 0.07619
+
+    A period range: under the acceleration limit alone the longest period wins; under a stroke limit the
+    period at which the fastest motion just fits it:
+
+    >>> longest = sa.optimal_profile((0.5, 2.0), 3.0)
+    >>> print(longest.period, longest.binding, round(longest.vbar, 9))
+    2.0 ('accel_max', 'period') 0.333333333
+    >>> fitted = sa.optimal_profile((0.5, 1.0), 3.0, stroke_max=0.05)
+    >>> print(round(fitted.period, 6), fitted.family, fitted.binding, round(fitted.vbar, 6))
+    0.657267 bang-bang-stick ('accel_max', 'stroke_max') 0.109545
     """
-    period, accel_max = check_scale("period", period), check_scale("accel_max", accel_max)
+    low, high = _period_range(period)
+    accel_max = check_scale("accel_max", accel_max)
     stroke_max, velocity_max = _limit("stroke_max", stroke_max), _limit("velocity_max", velocity_max)
     law, r = _friction_ratio(friction)
     check_moving(accel_max, r)
     a = accel_max
     # The fastest motion's speed and stroke grow as dt and dt^2 (t -> l t, x, y -> l^2 x leaves the model
     # alone, Sect. 3.2), so its k-fold repetition at period dt / k fits the limits from k_fit on.
-    _, _, speed, stroke = centred_motion(*fastest_pieces(period, a, r, 0.0))
-    k_fit = max(1, math.ceil(speed / velocity_max) if velocity_max is not None else 1,
-                math.ceil(math.sqrt(stroke / stroke_max)) if stroke_max is not None else 1)
+    _, _, speed, stroke = centred_motion(*fastest_pieces(1.0, a, r, 0.0))
+    k_fit = _sub_cycles_needed(low, speed, stroke, velocity_max, stroke_max)
     if k_fit > MAX_SUB_CYCLES:
         raise ValueError(f"velocity_max = {velocity_max!r}, stroke_max = {stroke_max!r} are too small for period = "
-                         f"{period!r} and accel_max = {a!r}: the fastest motion's speed {speed:.6g} and stroke "
-                         f"{stroke:.6g} would have to shrink {k_fit} times (more than {MAX_SUB_CYCLES} sub-cycles per "
-                         f"period); choose a shorter period (speed and stroke shrink with it and its square)")
+                         f"{low!r} and accel_max = {a!r}: the fastest motion's speed {speed * low:.6g} and stroke "
+                         f"{stroke * low * low:.6g} would have to shrink {k_fit} times (more than {MAX_SUB_CYCLES} "
+                         f"sub-cycles per period); choose a shorter period (speed and stroke shrink with it and its "
+                         f"square)")
+    if not isinstance(period, (tuple, list)):
+        return _optimal_at(high, a, r, law, velocity_max, stroke_max)
+    return _best_period(low, high, a, r, law, velocity_max, stroke_max, speed, stroke)
+
+
+def _sub_cycles_needed(period, speed, stroke, velocity_max, stroke_max) -> int:
+    """k_fit at ``period`` for the fastest motion of speed ``speed`` dt and stroke ``stroke`` dt^2."""
+    return max(1, math.ceil(speed * period / velocity_max) if velocity_max is not None else 1,
+               math.ceil(math.sqrt(stroke * period * period / stroke_max)) if stroke_max is not None else 1)
+
+
+def _optimal_at(period: float, a: float, r: float, law, velocity_max, stroke_max) -> OptimalProfile:
+    """The fastest motion of one period (:func:`optimal_profile` for a number ``period``)."""
+    _, _, speed, stroke = centred_motion(*fastest_pieces(1.0, a, r, 0.0))
+    k_fit = _sub_cycles_needed(period, speed, stroke, velocity_max, stroke_max)
     while not _fits(_built(_fastest_arcs(k_fit, a, r), period), velocity_max, stroke_max):
         k_fit += 1
     candidates = [_fastest_arcs(k_fit, a, r)]
@@ -846,6 +889,66 @@ def optimal_profile(period, accel_max, *, stroke_max=None, velocity_max=None, fr
         for motion in [candidates[0], _fastest_arcs(k_fit + 1, a, r)] + equal:
             candidates += unequal(motion, a, r, unit_v, unit_s)
     return _choose(candidates, period, a, r, law, velocity_max, stroke_max)
+
+
+def _period_range(period) -> tuple[float, float]:
+    """(min, max) of ``period``: a number (both the same) or a pair (min, max), 0 < min <= max."""
+    if not isinstance(period, (tuple, list)) or len(period) != 2:
+        if isinstance(period, (tuple, list, np.ndarray)):
+            raise TypeError(f"period must be a real number or a pair (min, max) of them, got {period!r}")
+        value = check_scale("period", period)
+        return value, value
+    low, high = check_scale("period min", period[0]), check_scale("period max", period[1])
+    if low > high:
+        raise ValueError(f"period must be a number or a pair (min, max) with min <= max, both finite and > 0, got "
+                         f"{tuple(period)!r}")
+    return low, high
+
+
+def _best_period(low: float, high: float, a: float, r: float, law, velocity_max, stroke_max, speed: float,
+                 stroke: float) -> OptimalProfile:
+    """The fastest motion over the periods in [``low``, ``high``] (page, "A period range").
+
+    Up to the longest period t_fit at which the fastest motion meets the limits (its speed ``speed`` dt and
+    stroke ``stroke`` dt^2), v* grows with dt and is attained (proven): the answer is min(high, t_fit) unless
+    a longer period does better.  Beyond t_fit (numerical): :data:`PERIOD_SCAN` periods per octave of
+    [max(low, t_fit), high], geometrically spaced (at most :data:`PERIOD_POINTS`), and a bounded scalar
+    search between the neighbours of the best; the chosen period is the fastest of those evaluated (the
+    shortest among those within :data:`CLOSED_FORM_RTOL` of it: k copies of a motion tie with it at k
+    times its period)."""
+    from scipy.optimize import minimize_scalar
+
+    fit = math.inf
+    high = min(high, max(low, high / _sub_cycles_needed(high, speed, stroke, velocity_max, stroke_max)
+                         * MAX_SUB_CYCLES))
+    if velocity_max is not None:
+        fit = min(fit, velocity_max / speed)
+    if stroke_max is not None:
+        fit = min(fit, math.sqrt(stroke_max / stroke))
+    start = min(max(low, fit), high)
+    found = {start: _optimal_at(start, a, r, law, velocity_max, stroke_max)}
+    if start < high:
+        count = min(PERIOD_POINTS, max(2, 1 + math.ceil(PERIOD_SCAN * math.log2(high / start))))
+        grid = start * (high / start) ** np.linspace(0.0, 1.0, count)
+        grid[-1] = high
+        for period in grid[1:].tolist():
+            found[period] = _optimal_at(period, a, r, law, velocity_max, stroke_max)
+        best = max(found, key=lambda p: found[p].vbar)
+        i = int(np.flatnonzero(grid == best)[0]) if best in grid else 0
+        left, right = grid[max(i - 1, 0)], grid[min(i + 1, count - 1)]
+        if right > left:
+            def slower(period):
+                period = float(period)
+                if period not in found:
+                    found[period] = _optimal_at(period, a, r, law, velocity_max, stroke_max)
+                return -found[period].vbar
+            minimize_scalar(slower, bounds=(left, right), method="bounded",
+                            options={"xatol": PERIOD_XTOL * right, "maxiter": PERIOD_REFINE})
+    fastest = max(result.vbar for result in found.values())
+    period = min(p for p in found if found[p].vbar >= fastest * (1.0 - CLOSED_FORM_RTOL))   # ties: the shortest
+    best = found[period]
+    ends = ("period",) if period in (low, high) else ()
+    return replace(best, binding=best.binding + ends)
 
 
 def _fastest_arcs(k: int, a: float, r: float) -> Arcs:
@@ -888,4 +991,4 @@ def _choose(candidates, period, a, r, law, velocity_max, stroke_max) -> OptimalP
     return OptimalProfile(profile=profiles[i], vbar=float(vbars[i]),
                           vbar_bound=float(optimal_mean_velocity(period, a, r)),
                           binding=tuple(name for name, full in used.items() if full), family=_family(arcs, a, r),
-                          sub_cycles=len(arcs.slides()), peak_velocity=speed, stroke=stroke)
+                          sub_cycles=len(arcs.slides()), peak_velocity=speed, stroke=stroke, period=period)
