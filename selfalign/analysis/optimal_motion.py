@@ -30,6 +30,12 @@ stick, all at period 1 (t -> t / dt):
 
 The fastest of these and of the k_fit copies is chosen by the exact solver (:func:`steady_mean_velocity`),
 which must agree with the closed form of each candidate's slides.
+
+A period range (min, max): the longest period under the acceleration limit alone (v* is proportional to
+dt), else up to the longest period the fastest motion fits, and a scan with a bounded search beyond it
+(:func:`_best_period`).  A jerk limit |y'''| <= j: the ramped bang-bang-stick family, y'' held at a stick,
+a pull-back, a coast and a catch-up level and ramped between them at the full jerk, by SLSQP on the exact
+solver's mean velocity (:func:`jerk_limited`); not the optimum (a general search beats it).
 """
 
 from __future__ import annotations
@@ -110,9 +116,10 @@ class OptimalProfile:
 
     Attributes
     ----------
-    profile : PiecewiseConstantProfile
-        The table motion: y'' piecewise constant, y' of zero mean (so y is periodic), y's range centred
-        on 0; :func:`~selfalign.simulate`, :func:`~selfalign.simulate_batch` and a
+    profile : PiecewiseConstantProfile or PiecewiseLinearProfile
+        The table motion: y'' piecewise constant (piecewise linear and continuous under a jerk limit),
+        y' of zero mean (so y is periodic), y's range centred on 0; :func:`~selfalign.simulate`,
+        :func:`~selfalign.simulate_batch` and a
         :class:`~selfalign.Scene` take it.
     vbar : float
         The steady mean velocity of the part relative to the table (eq. 10) on a uniform surface, from
@@ -122,14 +129,16 @@ class OptimalProfile:
         table motion of the period beats it, and ``vbar`` equals it (up to ``ARRIVAL_MARGIN``) when no
         other limit binds.
     binding : tuple of str
-        The limits the motion uses to the full, among "accel_max", "velocity_max", "stroke_max" and, for a
-        period range, "period" (the period chosen is an end of the range).
+        The limits the motion uses to the full, among "accel_max", "velocity_max", "stroke_max",
+        "jerk_max" (always, under a jerk limit: its ramps run at the full jerk) and, for a period range,
+        "period" (the period chosen is an end of the range).
     family : str
         The structure of each sub-cycle (a slide and the stick after it), its constant-y'' pieces in order:
         "bang" (y'' = -+a, the part slides), "coast" (y'' = 0 while it slides), "ramp" (another level while
         it slides), "stick" (y'' = +-r, the static limit, while it sticks), "dwell" (y'' = 0 while it
         sticks) or "hold" (another level while it sticks).  k > 1 sub-cycles of one structure read
         "structure x k" (their lengths may differ), of several structures the structures joined by " | ".
+        Under a jerk limit "ramped " and the names of the levels y'' holds or peaks at between its ramps.
     sub_cycles : int
         k, the slides per period.
     peak_velocity : float
@@ -795,6 +804,12 @@ def optimal_profile(period, accel_max, *, stroke_max=None, velocity_max=None, fr
     friction : FrictionLaw, optional
         Coulomb (the default, r = 1) or static_kinetic with r = mu_s / mu_k
         (``selfalign.model.friction.FrictionLaw``).
+    jerk_max : float, optional
+        j, the largest ``|y'''|``; in [1e-30, 1e30].  Default None (y'' may jump).  With it y'' is
+        continuous and piecewise linear (a ``PiecewiseLinearProfile``, run on the exact solver's smooth
+        stepper): the best motion of the ramped bang-bang-stick family found by SLSQP, below v* by about
+        3 a / (j dt).  Numerical and not optimal: a general search finds faster motions that creep
+        backward in place of the stick (page, "Finite jerk").
 
     Returns
     -------
@@ -810,7 +825,8 @@ def optimal_profile(period, accel_max, *, stroke_max=None, velocity_max=None, fr
     ValueError
         If ``period`` (or an end of its range) or ``accel_max`` is not finite or lies outside
         [1e-30, 1e30], a period range has min > max, a limit is not finite and > 0, ``friction`` is a
-        Stribeck law, or ``accel_max`` <= r (nothing moves).
+        Stribeck law, ``accel_max`` <= r (nothing moves), ``jerk_max`` is not finite and > 0, or it is
+        too small for any motion of the family to move the part within the period.
 
     See Also
     --------
@@ -847,6 +863,12 @@ def optimal_profile(period, accel_max, *, stroke_max=None, velocity_max=None, fr
     >>> fitted = sa.optimal_profile((0.5, 1.0), 3.0, stroke_max=0.05)
     >>> print(round(fitted.period, 6), fitted.family, fitted.binding, round(fitted.vbar, 6))
     0.657267 bang-bang-stick ('accel_max', 'stroke_max') 0.109545
+
+    A jerk limit: y'' ramps between its levels, and the part loses about 3 a / (j dt) of v*:
+
+    >>> ramped = sa.optimal_profile(1.0, 3.0, jerk_max=100.0)
+    >>> print(ramped.family, ramped.binding, round(ramped.vbar, 5), round(ramped.vbar / ramped.vbar_bound, 4))
+    ramped bang-bang-stick ('accel_max', 'jerk_max') 0.1511 0.9066
     """
     low, high = _period_range(period)
     accel_max = check_scale("accel_max", accel_max)
