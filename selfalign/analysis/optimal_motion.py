@@ -30,12 +30,18 @@ stick, all at period 1 (t -> t / dt):
 
 The fastest of these and of the k_fit copies is chosen by the exact solver (:func:`steady_mean_velocity`),
 which must agree with the closed form of each candidate's slides.
+
+A period range (min, max): the longest period under the acceleration limit alone (v* is proportional to
+dt), else up to the longest period the fastest motion fits, and a scan with a bounded search beyond it
+(:func:`_best_period`).  A jerk limit |y'''| <= j: the ramped bang-bang-stick family, y'' held at a stick,
+a pull-back, a coast and a catch-up level and ramped between them at the full jerk, by SLSQP on the exact
+solver's mean velocity (:func:`jerk_limited`); not the optimum (a general search beats it).
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -75,6 +81,10 @@ STRETCH = (0.3, 0.6)
 BINDING = 1e-6
 #: Agreement required between the exact solver's mean velocity and the closed form of the motion.
 CLOSED_FORM_RTOL = 1e-9
+#: A period range beyond the longest period the fastest motion fits: periods scanned per octave, at most in
+#: all, and the bounded scalar search around the best (relative tolerance, evaluations).
+PERIOD_SCAN, PERIOD_POINTS = 4, 16
+PERIOD_XTOL, PERIOD_REFINE, PERIOD_PEAKS = 1e-3, 8, 3
 
 
 @dataclass(frozen=True)
@@ -101,12 +111,15 @@ class OptimalProfile:
         The largest table speed.
     stroke : float
         The table's stroke.
+    period : float, optional
+        The table's period, given or chosen within a range.  Default None.
 
     Attributes
     ----------
-    profile : PiecewiseConstantProfile
-        The table motion: y'' piecewise constant, y' of zero mean (so y is periodic), y's range centred
-        on 0; :func:`~selfalign.simulate`, :func:`~selfalign.simulate_batch` and a
+    profile : PiecewiseConstantProfile or PiecewiseLinearProfile
+        The table motion: y'' piecewise constant (piecewise linear and continuous under a jerk limit),
+        y' of zero mean (so y is periodic), y's range centred on 0; :func:`~selfalign.simulate`,
+        :func:`~selfalign.simulate_batch` and a
         :class:`~selfalign.Scene` take it.
     vbar : float
         The steady mean velocity of the part relative to the table (eq. 10) on a uniform surface, from
@@ -116,19 +129,25 @@ class OptimalProfile:
         table motion of the period beats it, and ``vbar`` equals it (up to ``ARRIVAL_MARGIN``) when no
         other limit binds.
     binding : tuple of str
-        The limits the motion uses to the full, among "accel_max", "velocity_max" and "stroke_max".
+        The limits the motion uses to the full, among "accel_max", "velocity_max", "stroke_max",
+        "jerk_max" (always, under a jerk limit: its ramps run at the full jerk) and, for a period range,
+        "period" (the period chosen is an end of the range).
     family : str
         The structure of each sub-cycle (a slide and the stick after it), its constant-y'' pieces in order:
         "bang" (y'' = -+a, the part slides), "coast" (y'' = 0 while it slides), "ramp" (another level while
         it slides), "stick" (y'' = +-r, the static limit, while it sticks), "dwell" (y'' = 0 while it
         sticks) or "hold" (another level while it sticks).  k > 1 sub-cycles of one structure read
         "structure x k" (their lengths may differ), of several structures the structures joined by " | ".
+        Under a jerk limit "ramped " and the names of the levels y'' holds or peaks at between its ramps.
     sub_cycles : int
         k, the slides per period.
     peak_velocity : float
         max ``|y'|``.
     stroke : float
         max y - min y.
+    period : float or None
+        The table's period dt: the one given, or the one chosen within a range (None only when built
+        without it).
 
     See Also
     --------
@@ -151,6 +170,7 @@ class OptimalProfile:
     sub_cycles: int
     peak_velocity: float
     stroke: float
+    period: float | None = None
 
 
 def check_ratio(ratio) -> float:
@@ -747,7 +767,8 @@ def _slack(k: int) -> float:
     return LIMIT_SLACK + 64.0 * np.finfo(float).eps * k * k
 
 
-def optimal_profile(period, accel_max, *, stroke_max=None, velocity_max=None, friction=None) -> OptimalProfile:
+def optimal_profile(period, accel_max, *, stroke_max=None, velocity_max=None, friction=None,
+                    jerk_max=None) -> OptimalProfile:
     """The fastest periodic table motion under an acceleration limit, and under speed and stroke limits.
 
     Proven for the acceleration limit alone, numerical under the other limits.  On a uniform surface
@@ -768,8 +789,12 @@ def optimal_profile(period, accel_max, *, stroke_max=None, velocity_max=None, fr
 
     Parameters
     ----------
-    period : float
-        The table's period dt, dimensionless (Sect. 3.2); in [1e-30, 1e30].
+    period : float or (float, float)
+        The table's period dt, dimensionless (Sect. 3.2); in [1e-30, 1e30].  A pair (min, max),
+        0 < min <= max, lets the period be anything in that range: the fastest motion over the range is
+        returned, its period in ``.period``, and "period" is in ``.binding`` when it lies at an end.  Under
+        the acceleration limit alone the longest period wins (v* is proportional to dt); under speed and
+        stroke limits the period is searched (page, "A period range").
     accel_max : float
         a, the largest ``|y''|``; in [1e-30, 1e30] and above the friction ratio r.
     stroke_max : float, optional
@@ -779,6 +804,12 @@ def optimal_profile(period, accel_max, *, stroke_max=None, velocity_max=None, fr
     friction : FrictionLaw, optional
         Coulomb (the default, r = 1) or static_kinetic with r = mu_s / mu_k
         (``selfalign.model.friction.FrictionLaw``).
+    jerk_max : float, optional
+        j, the largest ``|y'''|``; in [1e-30, 1e30].  Default None (y'' may jump).  With it y'' is
+        continuous and piecewise linear (a ``PiecewiseLinearProfile``, run on the exact solver's smooth
+        stepper): the best motion of the ramped bang-bang-stick family found by SLSQP, below v* by about
+        3 a / (j dt).  Numerical and not optimal: a general search finds faster motions that creep
+        backward in place of the stick (page, "Finite jerk").
 
     Returns
     -------
@@ -789,10 +820,13 @@ def optimal_profile(period, accel_max, *, stroke_max=None, velocity_max=None, fr
     Raises
     ------
     TypeError
-        If a number is not a real number, or ``friction`` is not a FrictionLaw.
+        If a number is not a real number, ``period`` is a sequence other than a pair, or ``friction`` is
+        not a FrictionLaw.
     ValueError
-        If ``period`` or ``accel_max`` is not finite or lies outside [1e-30, 1e30], a limit is not finite
-        and > 0, ``friction`` is a Stribeck law, or ``accel_max`` <= r (nothing moves).
+        If ``period`` (or an end of its range) or ``accel_max`` is not finite or lies outside
+        [1e-30, 1e30], a period range has min > max, a limit is not finite and > 0, ``friction`` is a
+        Stribeck law, ``accel_max`` <= r (nothing moves), ``jerk_max`` is not finite and > 0, or it is
+        too small for any motion of the family to move the part within the period.
 
     See Also
     --------
@@ -819,22 +853,57 @@ def optimal_profile(period, accel_max, *, stroke_max=None, velocity_max=None, fr
     >>> tighter = sa.optimal_profile(1.0, 3.0, velocity_max=0.2)
     >>> print(tighter.family, tighter.sub_cycles, round(tighter.vbar, 5))
     bang-coast-bang-stick-dwell x 2 2 0.07619
+
+    A period range: under the acceleration limit alone the longest period wins; under a stroke limit the
+    period at which the fastest motion just fits it:
+
+    >>> longest = sa.optimal_profile((0.5, 2.0), 3.0)
+    >>> print(longest.period, longest.binding, round(longest.vbar, 9))
+    2.0 ('accel_max', 'period') 0.333333333
+    >>> fitted = sa.optimal_profile((0.5, 1.0), 3.0, stroke_max=0.05)
+    >>> print(round(fitted.period, 6), fitted.family, fitted.binding, round(fitted.vbar, 6))
+    0.657267 bang-bang-stick ('accel_max', 'stroke_max') 0.109545
+
+    A jerk limit: y'' ramps between its levels, and the part loses about 3 a / (j dt) of v*:
+
+    >>> ramped = sa.optimal_profile(1.0, 3.0, jerk_max=100.0)
+    >>> print(ramped.family, ramped.binding, round(ramped.vbar, 5), round(ramped.vbar / ramped.vbar_bound, 4))
+    ramped bang-bang-stick ('accel_max', 'jerk_max') 0.1511 0.9066
     """
-    period, accel_max = check_scale("period", period), check_scale("accel_max", accel_max)
+    low, high = _period_range(period)
+    accel_max = check_scale("accel_max", accel_max)
     stroke_max, velocity_max = _limit("stroke_max", stroke_max), _limit("velocity_max", velocity_max)
+    jerk = None if jerk_max is None else check_scale("jerk_max", jerk_max)
     law, r = _friction_ratio(friction)
     check_moving(accel_max, r)
     a = accel_max
     # The fastest motion's speed and stroke grow as dt and dt^2 (t -> l t, x, y -> l^2 x leaves the model
     # alone, Sect. 3.2), so its k-fold repetition at period dt / k fits the limits from k_fit on.
-    _, _, speed, stroke = centred_motion(*fastest_pieces(period, a, r, 0.0))
-    k_fit = max(1, math.ceil(speed / velocity_max) if velocity_max is not None else 1,
-                math.ceil(math.sqrt(stroke / stroke_max)) if stroke_max is not None else 1)
+    _, _, speed, stroke = centred_motion(*fastest_pieces(1.0, a, r, 0.0))
+    k_fit = _sub_cycles_needed(low, speed, stroke, velocity_max, stroke_max)
     if k_fit > MAX_SUB_CYCLES:
         raise ValueError(f"velocity_max = {velocity_max!r}, stroke_max = {stroke_max!r} are too small for period = "
-                         f"{period!r} and accel_max = {a!r}: the fastest motion's speed {speed:.6g} and stroke "
-                         f"{stroke:.6g} would have to shrink {k_fit} times (more than {MAX_SUB_CYCLES} sub-cycles per "
-                         f"period); choose a shorter period (speed and stroke shrink with it and its square)")
+                         f"{low!r} and accel_max = {a!r}: the fastest motion's speed {speed * low:.6g} and stroke "
+                         f"{stroke * low * low:.6g} would have to shrink {k_fit} times (more than {MAX_SUB_CYCLES} "
+                         f"sub-cycles per period); choose a shorter period (speed and stroke shrink with it and its "
+                         f"square)")
+    if not isinstance(period, (tuple, list)):
+        return _optimal_at(high, a, r, law, velocity_max, stroke_max, jerk)
+    return _best_period(low, high, a, r, law, velocity_max, stroke_max, speed, stroke, jerk)
+
+
+def _sub_cycles_needed(period, speed, stroke, velocity_max, stroke_max) -> int:
+    """k_fit at ``period`` for the fastest motion of speed ``speed`` dt and stroke ``stroke`` dt^2."""
+    return max(1, math.ceil(speed * period / velocity_max) if velocity_max is not None else 1,
+               math.ceil(math.sqrt(stroke * period * period / stroke_max)) if stroke_max is not None else 1)
+
+
+def _optimal_at(period: float, a: float, r: float, law, velocity_max, stroke_max, jerk=None) -> OptimalProfile:
+    """The fastest motion of one period (:func:`optimal_profile` for a number ``period``)."""
+    _, _, speed, stroke = centred_motion(*fastest_pieces(1.0, a, r, 0.0))
+    k_fit = _sub_cycles_needed(period, speed, stroke, velocity_max, stroke_max)
+    if jerk is not None:
+        return _jerk_choice(period, a, r, law, jerk, velocity_max, stroke_max, k_fit)
     while not _fits(_built(_fastest_arcs(k_fit, a, r), period), velocity_max, stroke_max):
         k_fit += 1
     candidates = [_fastest_arcs(k_fit, a, r)]
@@ -846,6 +915,68 @@ def optimal_profile(period, accel_max, *, stroke_max=None, velocity_max=None, fr
         for motion in [candidates[0], _fastest_arcs(k_fit + 1, a, r)] + equal:
             candidates += unequal(motion, a, r, unit_v, unit_s)
     return _choose(candidates, period, a, r, law, velocity_max, stroke_max)
+
+
+def _period_range(period) -> tuple[float, float]:
+    """(min, max) of ``period``: a number (both the same) or a pair (min, max), 0 < min <= max."""
+    if not isinstance(period, (tuple, list)) or len(period) != 2:
+        if isinstance(period, (tuple, list, np.ndarray)):
+            raise TypeError(f"period must be a real number or a pair (min, max) of them, got {period!r}")
+        value = check_scale("period", period)
+        return value, value
+    low, high = check_scale("period min", period[0]), check_scale("period max", period[1])
+    if low > high:
+        raise ValueError(f"period must be a number or a pair (min, max) with min <= max, both finite and > 0, got "
+                         f"{tuple(period)!r}")
+    return low, high
+
+
+def _best_period(low: float, high: float, a: float, r: float, law, velocity_max, stroke_max, speed: float,
+                 stroke: float, jerk: float | None) -> OptimalProfile:
+    """The fastest motion over the periods in [``low``, ``high``] (page, "A period range").
+
+    Up to the longest period t_fit at which the fastest motion meets the limits (its speed ``speed`` dt and
+    stroke ``stroke`` dt^2), v* grows with dt and is attained (proven): the answer is min(high, t_fit) unless
+    a longer period does better.  Beyond t_fit (numerical): :data:`PERIOD_SCAN` periods per octave of
+    [max(low, t_fit), high], geometrically spaced (at most :data:`PERIOD_POINTS`), and a bounded scalar
+    search between the neighbours of each of the :data:`PERIOD_PEAKS` best local maxima of the scan; the
+    chosen period is the fastest of those evaluated (the
+    shortest among those within :data:`CLOSED_FORM_RTOL` of it: k copies of a motion tie with it at k
+    times its period)."""
+    from scipy.optimize import minimize_scalar
+
+    fit = math.inf if jerk is None else low     # under a jerk limit v* is a bound, not attained
+    high = min(high, max(low, high / _sub_cycles_needed(high, speed, stroke, velocity_max, stroke_max)
+                         * MAX_SUB_CYCLES))
+    if velocity_max is not None:
+        fit = min(fit, velocity_max / speed)
+    if stroke_max is not None:
+        fit = min(fit, math.sqrt(stroke_max / stroke))
+    start = min(max(low, fit), high)
+    found = {start: _optimal_at(start, a, r, law, velocity_max, stroke_max, jerk)}
+    if start < high:
+        count = min(PERIOD_POINTS, max(2, 1 + math.ceil(PERIOD_SCAN * math.log2(high / start))))
+        grid = start * (high / start) ** np.linspace(0.0, 1.0, count)
+        grid[-1] = high
+        for period in grid[1:].tolist():
+            found[period] = _optimal_at(period, a, r, law, velocity_max, stroke_max, jerk)
+        values = [found[period].vbar for period in grid.tolist()]
+        peaks = [i for i in range(count) if values[i] >= max(values[max(i - 1, 0)], values[min(i + 1, count - 1)])]
+
+        def slower(period):
+            period = float(period)
+            if period not in found:
+                found[period] = _optimal_at(period, a, r, law, velocity_max, stroke_max, jerk)
+            return -found[period].vbar
+        for i in sorted(peaks, key=lambda i: values[i], reverse=True)[:PERIOD_PEAKS]:
+            left, right = grid[max(i - 1, 0)], grid[min(i + 1, count - 1)]
+            minimize_scalar(slower, bounds=(left, right), method="bounded",
+                            options={"xatol": PERIOD_XTOL * right, "maxiter": PERIOD_REFINE})
+    fastest = max(result.vbar for result in found.values())
+    period = min(p for p in found if found[p].vbar >= fastest * (1.0 - CLOSED_FORM_RTOL))   # ties: the shortest
+    best = found[period]
+    ends = ("period",) if period in (low, high) else ()
+    return replace(best, binding=best.binding + ends)
 
 
 def _fastest_arcs(k: int, a: float, r: float) -> Arcs:
@@ -888,4 +1019,208 @@ def _choose(candidates, period, a, r, law, velocity_max, stroke_max) -> OptimalP
     return OptimalProfile(profile=profiles[i], vbar=float(vbars[i]),
                           vbar_bound=float(optimal_mean_velocity(period, a, r)),
                           binding=tuple(name for name, full in used.items() if full), family=_family(arcs, a, r),
-                          sub_cycles=len(arcs.slides()), peak_velocity=speed, stroke=stroke)
+                          sub_cycles=len(arcs.slides()), peak_velocity=speed, stroke=stroke, period=period)
+
+
+# ------------------------------------------------------------------------------------------
+# A jerk limit |y'''| <= j: y'' piecewise linear (page, "Finite jerk")
+# ------------------------------------------------------------------------------------------
+
+#: The jerk-limited sub-cycle's levels of y'': stick s, pull-back -p, coast c, catch-up q (cyclic, in this
+#: order), each held for a time and joined to the next by a ramp at the full jerk.
+JERK_LEVELS = 4
+#: Pull-back and catch-up levels the jerk-limited search starts from, as fractions of the way from r to a.
+JERK_STARTS = (1.0, 0.6, 0.3)
+#: Fraction of a speed or stroke limit the jerk-limited search keeps free (SLSQP ends up to ~1e-9 beyond its
+#: constraints, and the motion returned must meet them exactly); a hold shorter than JERK_HOLD of the
+#: sub-cycle's period does not name a level in ``family``.
+JERK_SLACK, JERK_HOLD = 1e-7, 1e-6
+
+
+def ramped_motion(levels, holds, jerk: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """(breaks, accels, jerks, ends) of y'' holding ``levels[i]`` for ``holds[i]`` and then ramping to
+    ``levels[i + 1]`` (cyclic) at the full ``jerk``: the pieces of a :class:`PiecewiseLinearProfile`."""
+    levels, holds = np.asarray(levels, dtype=float), np.asarray(holds, dtype=float)
+    following = np.roll(levels, -1)
+    ramps = np.abs(following - levels) / jerk
+    durations = np.column_stack([holds, ramps]).ravel()
+    accels = np.column_stack([levels, levels]).ravel()
+    jerks = np.column_stack([np.zeros_like(levels), np.sign(following - levels) * jerk]).ravel()
+    ends = np.column_stack([levels, following]).ravel()
+    keep = durations > 0.0
+    breaks = np.concatenate([[0.0], np.cumsum(durations[keep])])
+    return breaks, accels[keep], jerks[keep], ends[keep]
+
+
+def _held(levels: np.ndarray, coast: float, catch: float, jerk: float, period: float) -> np.ndarray | None:
+    """The holds of ``levels`` (s, -p, c, q) with the coast and catch-up held for ``coast`` and ``catch``
+    and the stick and pull-back holds solved so that the ramps and holds fill ``period`` and y'' has zero
+    mean (two linear equations); None where they are singular."""
+    following = np.roll(levels, -1)
+    ramps = np.abs(following - levels) / jerk
+    ramp_impulse = float(np.sum((levels + following) / 2.0 * ramps))
+    rest = period - float(np.sum(ramps)) - coast - catch
+    impulse = ramp_impulse + levels[2] * coast + levels[3] * catch
+    det = levels[1] - levels[0]
+    if det == 0.0:
+        return None
+    pull = (-impulse - levels[0] * rest) / det
+    return np.array([rest - pull, pull, coast, catch])
+
+
+def _linear_extremes(breaks, accels, jerks) -> tuple[float, float, float, float]:
+    """(y_start, yd_start, peak_velocity, stroke) of y'' = accels + jerks s on the pieces between ``breaks``:
+    y' of zero mean, y's range centred on 0 (y' is quadratic in a piece, y cubic: their extremes lie at the
+    breaks or where y'' or y' vanishes inside a piece)."""
+    lengths = np.diff(breaks)
+    gained = np.concatenate([[0.0], np.cumsum(accels * lengths + jerks * lengths**2 / 2.0)])
+    moved = np.concatenate([[0.0], np.cumsum(gained[:-1] * lengths + accels * lengths**2 / 2.0
+                                             + jerks * lengths**3 / 6.0)])
+    yd_start = -moved[-1] / breaks[-1]
+    u = yd_start + gained
+    y = moved + yd_start * breaks
+
+    def inside(s):
+        return np.where((s > 0.0) & (s < lengths[:, None]), s, 0.0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        turn = inside(np.where(jerks != 0.0, -accels / jerks, 0.0)[:, None])
+        disc = np.sqrt(np.maximum(accels**2 - 2.0 * jerks * u[:-1], 0.0))
+        roots = np.where(jerks[:, None] != 0.0, (-accels[:, None] + np.array([-1.0, 1.0]) * disc[:, None])
+                         / jerks[:, None], np.where(accels != 0.0, -u[:-1] / accels, 0.0)[:, None])
+        roots = inside(np.nan_to_num(roots))
+    speed = u[:-1, None] + accels[:, None] * turn + jerks[:, None] * turn**2 / 2.0
+    height = (y[:-1, None] + u[:-1, None] * roots + accels[:, None] * roots**2 / 2.0
+              + jerks[:, None] * roots**3 / 6.0)
+    every = np.concatenate([y, height.ravel()])
+    low, high = float(np.min(every)), float(np.max(every))
+    return -(low + high) / 2.0, float(yd_start), float(np.max(np.abs(np.concatenate([u, speed.ravel()])))), high - low
+
+
+def _ramped_profile(levels, holds, jerk: float, copies: int = 1, period: float | None = None):
+    """(profile, peak_velocity, stroke) of ``copies`` copies of :func:`ramped_motion`: a
+    :class:`PiecewiseLinearProfile`, y' of zero mean, y's range centred on 0, its last break set to
+    ``period`` (the sum of the pieces up to rounding) when given."""
+    from ..model.profiles import PiecewiseLinearProfile
+
+    breaks, accels, jerks, ends = ramped_motion(np.tile(levels, copies), np.tile(holds, copies), jerk)
+    if period is not None:
+        breaks[-1] = period
+    y_start, yd_start, speed, stroke = _linear_extremes(breaks, accels, jerks)
+    return PiecewiseLinearProfile(breaks, accels, jerks, y_start, yd_start, ends=ends), speed, stroke
+
+
+def jerk_limited(period: float, a: float, r: float, law, jerk: float, velocity_max: float | None,
+                 stroke_max: float | None, copies: int = 1) -> tuple[float, np.ndarray, np.ndarray] | None:
+    """(vbar, levels, holds) of the fastest jerk-limited sub-cycle of period ``period`` / ``copies`` found by
+    SLSQP: levels s (stick), -p (pull-back), c (coast) and q (catch-up) of y'', each held and joined to the
+    next by a ramp at the full ``jerk`` (:func:`ramped_motion`); |s| <= r, r <= p <= a, |c|, |q| <= a; the
+    stick and pull-back holds solved for the period and zero-mean y'' (:func:`_held`); speed and stroke
+    within the limits (copies share them).  The objective is the exact solver's mean velocity, its forward
+    differences in one batch.  Starts: the fastest motion's levels and times with the ramps cut from its
+    holds, and pull-back and catch-up levels part of the way from r to a (:data:`JERK_STARTS`).  None if
+    no start gives a moving part."""
+    from scipy.optimize import minimize
+
+    sub = period / copies
+    slide = r * sub / (1.0 + r)
+    v_lim = None if velocity_max is None else velocity_max * (1.0 - JERK_SLACK)
+    s_lim = None if stroke_max is None else stroke_max * (1.0 - JERK_SLACK)
+    lower = np.array([-r / a, r / a, -1.0, -1.0, 0.0, 0.0])
+    upper = np.array([r / a, 1.0, 1.0, 1.0, 1.0, 1.0])
+
+    def unpack(z):
+        levels = np.array([z[0], -z[1], z[2], z[3]]) * a
+        return levels, _held(levels, z[4] * sub, z[5] * sub, jerk, sub)
+
+    def evaluate(rows):
+        profiles, margins = [], []
+        for z in rows:
+            levels, holds = unpack(z)
+            if holds is None or np.any(holds < 0.0):
+                margins.append([-1.0] * 4 if holds is None else [holds[0] / sub, holds[1] / sub, 0.0, 0.0])
+                profiles.append(None)
+                continue
+            profile, speed, stroke = _ramped_profile(levels, np.maximum(holds, 0.0), jerk)
+            margins.append([holds[0] / sub, holds[1] / sub, 1.0 if v_lim is None else 1.0 - speed / v_lim,
+                            1.0 if s_lim is None else 1.0 - stroke / s_lim])
+            profiles.append(profile)
+        good = [p for p in profiles if p is not None]
+        found = iter(np.nan_to_num(steady_mean_velocity(good, law), nan=-1.0) if good else [])
+        return (np.array([next(found) if p is not None else -1.0 for p in profiles]) / (a * sub),
+                np.array(margins))
+
+    memo = {}
+
+    def at(z):
+        key = z.tobytes()
+        if key not in memo:
+            step = 1e-7 * np.maximum(np.abs(z), 1.0)
+            step = np.where(z + step > upper, -step, step)
+            value, margins = evaluate(np.vstack([z, z + np.diag(step)]))
+            memo.clear()
+            memo[key] = (-value[0], -(value[1:] - value[0]) / step, margins[0],
+                         ((margins[1:] - margins[0]) / step[:, None]).T)
+        return memo[key]
+    best = None
+    for fraction in JERK_STARTS:
+        level = (r + fraction * (a - r)) / a
+        catch = max(slide * (a - 1.0) / (2.0 * a) - 2.0 * a / jerk, 0.0) / sub if fraction == 1.0 else 0.0
+        z0 = np.array([r / a, level, 0.0, level, 0.0, catch])
+        res = minimize(lambda z: at(z)[0], z0, jac=lambda z: at(z)[1], method="SLSQP",
+                       bounds=list(zip(lower, upper)),
+                       constraints=[{"type": "ineq", "fun": lambda z: at(z)[2], "jac": lambda z: at(z)[3]}],
+                       options={"maxiter": 200, "ftol": 1e-14})
+        z = np.clip(res.x, lower, upper)
+        levels, holds = unpack(z)
+        if holds is None or np.any(holds < 0.0):
+            continue
+        profile, speed, stroke = _ramped_profile(levels, holds, jerk)
+        if (velocity_max is not None and speed > velocity_max) or (stroke_max is not None and stroke > stroke_max):
+            continue
+        vbar = float(steady_mean_velocity([profile], law)[0])
+        if vbar > 0.0 and (best is None or vbar > best[0]):
+            best = (vbar, levels, holds)
+    return best
+
+
+#: Most sub-cycles per period the jerk-limited search tries beyond the count the fastest motion's copies need.
+JERK_SUB_CYCLES = 8
+
+
+def _jerk_choice(period: float, a: float, r: float, law, jerk: float, velocity_max, stroke_max,
+                 k_fit: int) -> OptimalProfile:
+    """The fastest jerk-limited motion of ``period``: k equal sub-cycles (:func:`jerk_limited`), k = 1 without
+    speed and stroke limits, else k = 1 .. min(k_fit + 1, :data:`JERK_SUB_CYCLES`); the whole motion run by
+    the exact solver, which must agree with its sub-cycle's mean velocity to :data:`CLOSED_FORM_RTOL`."""
+    unlimited = velocity_max is None and stroke_max is None
+    counts = [1] if unlimited else range(1, min(k_fit + 1, JERK_SUB_CYCLES) + 1)
+    found = [(k, jerk_limited(period, a, r, law, jerk, velocity_max, stroke_max, k)) for k in counts]
+    found = [(k, best) for k, best in found if best is not None]
+    if not found:
+        raise ValueError(f"jerk_max = {jerk!r} is too small for period = {period!r} and accel_max = {a!r}: no "
+                         f"jerk-limited motion found moves the part (y'' must ramp past the static limit "
+                         f"r = {r!r} and back within the period); choose a longer period or a larger jerk_max")
+    k, (sub_vbar, levels, holds) = max(found, key=lambda item: item[1][0])
+    profile, speed, stroke = _ramped_profile(levels, holds, jerk, k, period)
+    vbar = float(steady_mean_velocity([profile], law)[0])
+    if not abs(vbar - sub_vbar) <= CLOSED_FORM_RTOL * sub_vbar:
+        raise RuntimeError(f"the exact solver's mean velocity {vbar!r} of {k} jerk-limited sub-cycles disagrees "
+                           f"with that of one, {sub_vbar!r} (period = {period!r}, accel_max = {a!r}, r = {r!r})")
+    used = {"accel_max": float(np.max(np.abs(levels))) >= a * (1.0 - BINDING),
+            "velocity_max": velocity_max is not None and speed >= velocity_max * (1.0 - BINDING),
+            "stroke_max": stroke_max is not None and stroke >= stroke_max * (1.0 - BINDING), "jerk_max": True}
+    return OptimalProfile(profile=profile, vbar=vbar, vbar_bound=float(optimal_mean_velocity(period, a, r)),
+                          binding=tuple(name for name, full in used.items() if full),
+                          family=_jerk_family(levels, holds, a, r, k), sub_cycles=k, peak_velocity=speed,
+                          stroke=stroke, period=period)
+
+
+def _jerk_family(levels: np.ndarray, holds: np.ndarray, a: float, r: float, k: int) -> str:
+    """The ``family`` of a jerk-limited motion: "ramped " and the names of its sub-cycle's levels as
+    :func:`_family` gives them (the stick level; the pull-back and catch-up levels, held or not; the coast
+    level only where it is held), "x k" for k sub-cycles."""
+    kept = [0, 1] + ([2] if holds[2] > JERK_HOLD * float(np.sum(holds)) else []) + [3]
+    sliding = np.array([i != 0 for i in kept])
+    order = np.roll(np.arange(len(kept)), -1)            # the sub-cycle opens with the slide
+    name = _family(Arcs(levels[kept][order], np.ones(len(kept)), sliding[order]), a, r)
+    return "ramped " + name + (f" x {k}" if k > 1 else "")
