@@ -376,6 +376,19 @@ def test_looser_limits_never_slow_the_part():
 
 
 @pytest.mark.blas
+def test_a_looser_acceleration_limit_never_slows_the_part_at_fig6_limits():
+    """Hypothesis: as above for the acceleration limit, under Fig. 6's speed and stroke limits (period 0.072,
+    |y'| <= 3.2, stroke <= 0.021, Sect. 4.4.2), where the polish's SLSQP can end up to ~1e-5 outside a limit
+    and a retry with the same slack does not move: the mean velocity found does not fall as a grows (to
+    1e-3, the largest slack of RETRY_SLACK).  Limits a hair apart (800 and its predecessor, 1600 and just
+    above) once returned 1.085 against 1.205 and 1.029 against 1.614, when the best sub-cycle counts
+    failed to polish and only the fastest motion's copies were left."""
+    accels = [700.0, 799.9999999999995, 800.0, 1275.0, 1599.9999, 1600.0000001, 2000.0]
+    found = [optimal_profile(0.072, a, stroke_max=0.021, velocity_max=3.2).vbar for a in accels]
+    assert all(later >= earlier * (1.0 - 1e-3) for earlier, later in zip(found, found[1:])), found
+
+
+@pytest.mark.blas
 @pytest.mark.parametrize("scale", [1e-3, 7.0])
 def test_scaling(scale):
     """Hypothesis ("Scaling"): t -> l t, x, y -> l^2 x, l^2 y leaves the model alone, so the period l dt

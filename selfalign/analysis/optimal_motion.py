@@ -70,6 +70,10 @@ D_SCAN = 8
 #: of a sub-cycle place their breaks with a rounding that moves y' by up to ~k^2 eps of its scale (the
 #: polish keeps LIMIT_SLACK + 64 eps k^2 free); the returned motion meets the limits exactly.
 LIMIT_SLACK = 1e-8
+#: Multiples of the slack the polish retries with when SLSQP ends outside a limit (it can end up to ~1e-5
+#: beyond one, and a retry from there with too small a slack may not move): at most 1e-3 of a limit, a
+#: relative loss of v-bar of the same order.
+RETRY_SLACK = (1.0, 10.0, 100.0, 1e3, 1e4, 1e5)
 #: Most sub-cycles per period the search builds: limits that need more are refused (a shorter period
 #: is the same motion with fewer pieces).
 MAX_SUB_CYCLES = 1024
@@ -659,21 +663,22 @@ def polish(arcs: Arcs, a: float, r: float, velocity_max: float | None, stroke_ma
     ``margin`` (never touched before) exact by :func:`_solved_durations`; every slide opens at -a and comes
     to rest on a stick arc between 0 and r.  The grid leaves short arcs at intermediate levels where y''
     switches within a cell: arcs shorter than 1e-6 of the period are dropped and levels within 1e-6 of 0,
-    +-a or +-r set to it, and SLSQP runs again (with 10 and 100 times the slack if it ends outside a limit).
+    +-a or +-r set to it, and SLSQP runs again (with the multiples :data:`RETRY_SLACK` of the slack while it
+    ends outside a limit).
     Then :func:`_tidy_stick` writes the sticks in their canonical form.  None if SLSQP ends elsewhere than at
     a point meeting the limits."""
     period = float(np.sum(arcs.durations))
     first = _clean(_slsqp(arcs, a, r, velocity_max, stroke_max, margin, slack), a, r, 1e-6, 1e-6)
-    for keep_free in (slack, 10.0 * slack, 100.0 * slack):     # SLSQP may end a little outside a constraint
-        second = None if first is None else _clean(_slsqp(first, a, r, velocity_max, stroke_max, margin, keep_free),
-                                                   a, r, 1e-12, 0.0)
+    if first is None:
+        return None
+    for times in RETRY_SLACK:                     # SLSQP may end a little outside a constraint
+        second = _clean(_slsqp(first, a, r, velocity_max, stroke_max, margin, times * slack), a, r, 1e-12, 0.0)
         if second is None:
-            return None
+            continue
         exact = Arcs(second.levels, _solved_durations(second, _dependent(second), period, margin), second.sliding)
         if (np.all(exact.durations >= 0.0) and _meets(exact, velocity_max, stroke_max)
                 and np.all(exact.quantities()[3][exact.sliding] > 0.0)):
             return _tidy_stick(exact, r, velocity_max, stroke_max).merged()
-        first = second
     return None
 
 
@@ -734,11 +739,13 @@ def search(a: float, r: float, velocity_max: float | None, stroke_max: float | N
     for k in range(low, high + 1):
         value(k)
     out = []
-    for k in sorted((k for k in values if values[k] > 0.0), key=values.get, reverse=True)[:polished]:
+    for k in sorted((k for k in values if values[k] > 0.0), key=values.get, reverse=True):
         _, arcs = slide_programme(slides[k], a, r, *scaled(k), FINE_CELLS)
         exact = None if arcs is None else polish(arcs, a, r, *scaled(k), ARRIVAL_MARGIN * a * k, _slack(k))
         if exact is not None:
             out.append(exact.repeated(np.full(k, 1.0 / k)))
+        if len(out) == polished:
+            break
     return out
 
 
