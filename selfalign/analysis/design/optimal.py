@@ -48,7 +48,7 @@ from ...solvers.outcomes import STATUS_CODES, Status
 from ..optimal_motion import centred_motion, optimal_profile, steady_mean_velocity
 from ..positioning import MAX_PERIODS
 from .candidates import friction_at, mu_values, scale
-from .verification import Verification, _failure, end_bounds, worst_process_time
+from .verification import Verification, conclude, empty_results
 
 #: The family's name in a spec and a design.
 FAMILY = "optimal"
@@ -158,11 +158,8 @@ def verify_motions(spec: DesignSpec, cands: list[Motion], n_entries: int | None 
     profile's); ``sufficient`` is -1 (eq. 59 does not apply, the module docstring)."""
     n_entries = spec.grid.entries if n_entries is None else n_entries
     mus = mu_values(spec, spec.grid.mu_samples)
-    k, shape = len(cands), (len(cands), mus.size)
-    out = {key: np.full(shape, np.nan) for key in ("vbar", "frac_accumulate", "frac_stop", "frac_never_stop",
-                                                  "frac_undecided", "dx_d", "x_stick_min", "end_min", "end_max",
-                                                  "t_arrive", "t_rest")}
-    ends = np.full(shape + (n_entries,), np.nan)
+    shape = (len(cands), mus.size)
+    out, ends = empty_results(shape, n_entries)
     c_mu = np.array([m.c_mu for m in cands])
     rest, accumulation = STATUS_CODES[Status.REST], STATUS_CODES[Status.ACCUMULATION]
     never = STATUS_CODES[Status.NEVER_STOPS]
@@ -193,27 +190,10 @@ def verify_motions(spec: DesignSpec, cands: list[Motion], n_entries: int | None 
         ends[moving, j] = end * spec.width
         out["end_min"][moving, j] = np.min(end, axis=1) * spec.width  # NaN where an entry does not stop
         out["end_max"][moving, j] = np.max(end, axis=1) * spec.width
-    stops = np.all((out["frac_accumulate"] + out["frac_stop"]) == 1.0, axis=1)
-    accumulates = np.all(out["frac_accumulate"] == 1.0, axis=1)
-    lo, hi = end_bounds(ends, out["x_stick_min"], stops)
-    x_d, error = 0.5 * (lo + hi), 0.5 * (hi - lo)
-    with np.errstate(invalid="ignore"):
-        sampled_error = np.where(stops, 0.5 * (np.max(out["end_max"], axis=1) - np.min(out["end_min"], axis=1)),
-                                 np.nan)
-    process_stops = _process_runs(spec, cands, mus, x_d, stops, out)
-    periods = np.array([m.period for m in cands])
-    t_worst = worst_process_time(out["t_arrive"], periods)
-    within = error <= spec.tolerance
-    in_time = np.ones(k, bool) if spec.max_process_time is None else t_worst <= spec.max_process_time
-    wanted = accumulates if spec.accumulation else stops
-    guaranteed = wanted & within & process_stops.all(axis=1) & in_time
-    sufficient = np.full(shape, -1, np.int8)
-    failure = tuple(_failure(spec, i, out, stops, accumulates, within, process_stops, in_time, sufficient)
-                    for i in range(k))
-    return Verification(mu=mus, case=np.zeros(shape, np.int8), sufficient=sufficient, process_stops=process_stops,
-                        x_d=x_d, error=error, sampled_error=sampled_error, t_worst=t_worst, stops=stops,
-                        accumulates=accumulates, guaranteed=guaranteed, failure=failure,
-                        method="exact (piecewise-constant optimal motion)", **out)
+    return conclude(spec, mus, out, ends, np.array([m.period for m in cands]),
+                    lambda x_d, stops: _process_runs(spec, cands, mus, x_d, stops, out),
+                    case=np.zeros(shape, np.int8), sufficient=np.full(shape, -1, np.int8),
+                    methods={"exact (piecewise-constant optimal motion)"})
 
 
 def process_run(spec: DesignSpec, motion: Motion, mu: float, level: float):

@@ -95,10 +95,7 @@ def verify(spec: DesignSpec, cand: Candidates, n_entries: int | None = None) -> 
     mus = mu_values(spec, spec.grid.mu_samples)
     k, n_mu = len(cand), mus.size
     shape = (k, n_mu)
-    out = {key: np.full(shape, np.nan) for key in ("vbar", "frac_accumulate", "frac_stop", "frac_never_stop",
-                                                  "frac_undecided", "dx_d", "x_stick_min", "end_min", "end_max",
-                                                  "t_arrive", "t_rest")}
-    ends = np.full(shape + (n_entries,), np.nan)
+    out, ends = empty_results(shape, n_entries)
     case = np.zeros(shape, np.int8)
     sufficient = np.full(shape, -1, np.int8)
     dims = [dimensionless(spec, cand, mu) for mu in mus]
@@ -126,6 +123,30 @@ def verify(spec: DesignSpec, cand: Candidates, n_entries: int | None = None) -> 
             if paper_model and case[i, j] > 0:
                 profile = ThreePhaseProfile(*(float(a[i]) for a in dims[j]))
                 sufficient[i, j] = sufficient_condition(profile, float(cand.c_mu[i]))
+    return conclude(spec, mus, out, ends, cand.period,
+                    lambda x_d, stops: _process_runs(spec, cand, mus, dims, x_d, stops, out, methods),
+                    case=case, sufficient=sufficient, methods=methods)
+
+
+#: The per-(candidate, mu sample) results of a verification, in ``Verification``'s fields.
+RESULT_KEYS = ("vbar", "frac_accumulate", "frac_stop", "frac_never_stop", "frac_undecided", "dx_d", "x_stick_min",
+               "end_min", "end_max", "t_arrive", "t_rest")
+
+
+def empty_results(shape: tuple[int, int], n_entries: int) -> tuple[dict, np.ndarray]:
+    """NaN arrays of :data:`RESULT_KEYS` of ``shape`` (candidates, mu samples) and of the entries' end
+    positions (candidates, mu samples, entries), for a verification to fill."""
+    return {key: np.full(shape, np.nan) for key in RESULT_KEYS}, np.full(shape + (n_entries,), np.nan)
+
+
+def conclude(spec: DesignSpec, mus: np.ndarray, out: dict, ends: np.ndarray, periods: np.ndarray, process_runs,
+             *, case: np.ndarray, sufficient: np.ndarray, methods: set) -> Verification:
+    """The verdict on every candidate from its filled results ``out`` and entries' ``ends`` (module
+    docstring, "Guarantee"): it stops (every entry at rest or accumulating at every mu), accumulates, the
+    bounds x_d +- error of the end positions, the process runs from rest (``process_runs(x_d, stops)``, a
+    boolean array (candidates, mu samples); it may add to ``out`` and ``methods``), the worst process time
+    over ``periods`` and whether all of it meets the spec."""
+    k = len(periods)
     stops = np.all((out["frac_accumulate"] + out["frac_stop"]) == 1.0, axis=1)
     accumulates = np.all(out["frac_accumulate"] == 1.0, axis=1)
     lo, hi = end_bounds(ends, out["x_stick_min"], stops)
@@ -133,8 +154,8 @@ def verify(spec: DesignSpec, cand: Candidates, n_entries: int | None = None) -> 
     with np.errstate(invalid="ignore"):
         sampled_error = np.where(stops, 0.5 * (np.max(out["end_max"], axis=1) - np.min(out["end_min"], axis=1)),
                                  np.nan)
-    process_stops = _process_runs(spec, cand, mus, dims, x_d, stops, out, methods)
-    t_worst = worst_process_time(out["t_arrive"], cand.period)
+    process_stops = process_runs(x_d, stops)
+    t_worst = worst_process_time(out["t_arrive"], periods)
     within = error <= spec.tolerance
     in_time = np.ones(k, bool) if spec.max_process_time is None else t_worst <= spec.max_process_time
     wanted = accumulates if spec.accumulation else stops
@@ -143,8 +164,7 @@ def verify(spec: DesignSpec, cand: Candidates, n_entries: int | None = None) -> 
                     for i in range(k))
     return Verification(mu=mus, case=case, sufficient=sufficient, process_stops=process_stops, x_d=x_d, error=error,
                         sampled_error=sampled_error, t_worst=t_worst, stops=stops, accumulates=accumulates,
-                        guaranteed=guaranteed, failure=failure,
-                        method="; ".join(sorted(methods - {""})), **out)
+                        guaranteed=guaranteed, failure=failure, method="; ".join(sorted(methods - {""})), **out)
 
 
 def mu_sup(values: np.ndarray) -> np.ndarray:
