@@ -106,14 +106,20 @@ def general_search(pieces, period, a, ratio=1.0, velocity_max=None, stroke_max=N
     from each of ``seeds`` (Sobol start, ``popsize`` x 2N members, ``maxiter`` generations, each generation
     one batch of the exact solver), then Nelder-Mead from the best of each."""
     args = (pieces, period, a, ratio, velocity_max, stroke_max)
+    return deterministic_search(lambda z: search_vbar(z, *args), pieces, popsize, maxiter, seeds, 1e-13, 2000)
+
+
+def deterministic_search(vbar, pieces, popsize, maxiter, seeds, xatol, maxfev) -> float:
+    """The largest ``vbar(z)`` (z: N durations in [0, 1] and N levels in [-1, 1], a column per trial) found by
+    differential evolution from each of ``seeds`` (Sobol start, every generation one batch), then
+    Nelder-Mead (``xatol``, ``maxfev``) from the best of each."""
     bounds = [(0.0, 1.0)] * pieces + [(-1.0, 1.0)] * pieces
     best = -np.inf
     for seed in seeds:
-        res = differential_evolution(lambda X: -search_vbar(X.T, *args), bounds, seed=seed, vectorized=True,
-                                     popsize=popsize, maxiter=maxiter, tol=0.0, polish=False, updating="deferred",
-                                     init="sobol")
-        local = minimize(lambda z: -search_vbar(z, *args)[0], res.x, method="Nelder-Mead",
-                         options={"xatol": 1e-13, "fatol": 1e-15, "maxfev": 2000, "adaptive": True})
+        res = differential_evolution(lambda X: -vbar(X.T), bounds, seed=seed, vectorized=True, popsize=popsize,
+                                     maxiter=maxiter, tol=0.0, polish=False, updating="deferred", init="sobol")
+        local = minimize(lambda z: -vbar(z)[0], res.x, method="Nelder-Mead",
+                         options={"xatol": xatol, "fatol": 1e-15, "maxfev": maxfev, "adaptive": True})
         best = max(best, -float(res.fun), -float(local.fun))
     return best
 
@@ -616,16 +622,7 @@ def jerk_general_search(pieces, period, a, ratio, jerk, velocity_max=None, strok
     evolution from each of ``seeds`` (Sobol start, every generation one batch of the exact solver), then
     Nelder-Mead from the best."""
     args = (pieces, period, a, ratio, jerk, velocity_max, stroke_max)
-    bounds = [(0.0, 1.0)] * pieces + [(-1.0, 1.0)] * pieces
-    best = -np.inf
-    for seed in seeds:
-        res = differential_evolution(lambda X: -jerk_search_vbar(X.T, *args), bounds, seed=seed, vectorized=True,
-                                     popsize=popsize, maxiter=maxiter, tol=0.0, polish=False, updating="deferred",
-                                     init="sobol")
-        local = minimize(lambda z: -jerk_search_vbar(z, *args)[0], res.x, method="Nelder-Mead",
-                         options={"xatol": 1e-12, "fatol": 1e-15, "maxfev": 1500, "adaptive": True})
-        best = max(best, -float(res.fun), -float(local.fun))
-    return best
+    return deterministic_search(lambda z: jerk_search_vbar(z, *args), pieces, popsize, maxiter, seeds, 1e-12, 1500)
 
 
 @pytest.mark.blas
