@@ -50,7 +50,8 @@ def fourier_start(dt: float, dy: float, order: int, forward_fraction: float = 0.
 
 @dataclass
 class FourierOptimum:
-    """Result of :func:`optimise_fourier`; ``history_f``: f at the start and after every iteration."""
+    """Result of :func:`optimise_fourier`; ``history_f``: f at the start and after every iteration;
+    ``restarts``: how often the SQP restarted its quasi-Newton model (:class:`~selfalign.analysis.sqp.SQPResult`)."""
 
     profile: FourierProfile
     start: FourierProfile
@@ -64,6 +65,7 @@ class FourierOptimum:
     message: str
     seconds: float
     settings: dict = field(default_factory=dict)
+    restarts: int = 0
 
 
 def steady_vbar_gradient(profile_of, z, steady: SimulatedSteadyState, count: int, fd_step: float) -> np.ndarray:
@@ -186,7 +188,7 @@ def optimise_fourier(dt: float, dy: float, yd_max: float, ydd_max: float, *, ord
                           v0=float(final.v0[0]), history_f=np.array([objective(-h) for h in result.history]),
                           iterations=result.iterations, evaluations=len(cache), success=result.converged,
                           message=result.message, seconds=time.perf_counter() - start_time,
-                          settings=settings)
+                          settings=settings, restarts=result.restarts)
 
 
 def best_three_phase(dt: float, dy: float, ydd_max: float, yd_max: float, *, num: int = 401,

@@ -16,7 +16,9 @@ Alg. 16.3).  :func:`minimise` is a line-search SQP on top of it, as SLSQP is: at
 iterate the quadratic model with a damped BFGS matrix (Powell's update) is minimised under
 the constraints, which are linear and hence exact, and the step along its solution is
 halved until the objective decreases enough (Armijo).  Every iterate is feasible, so the
-objective itself serves as merit function.
+objective itself serves as merit function.  Should the BFGS matrix lose positive definiteness
+to rounding on the null space of the working constraints (a Cholesky pivot at or below zero), the
+model restarts from the scaled identity of the first iteration (``SQPResult.restarts``).
 """
 
 from __future__ import annotations
@@ -165,7 +167,8 @@ def bfgs_update(B: np.ndarray, s: np.ndarray, y: np.ndarray) -> np.ndarray:
 @dataclass
 class SQPResult:
     """Result of :func:`minimise`: the final point, its value and gradient, the value after
-    every iteration (``history``, the start first), counts, and why it stopped."""
+    every iteration (``history``, the start first), counts (``restarts``: of the quasi-Newton
+    model), and why it stopped."""
 
     x: np.ndarray
     fun: float
@@ -176,6 +179,7 @@ class SQPResult:
     gradients: int
     converged: bool
     message: str
+    restarts: int = 0
 
 
 def minimise(fun, grad, x0: np.ndarray, A: np.ndarray, b: np.ndarray, *, first_step: float, min_step: float,
@@ -207,10 +211,21 @@ def minimise(fun, grad, x0: np.ndarray, A: np.ndarray, b: np.ndarray, *, first_s
         raise ValueError(f"minimise: x0 violates the constraints A x <= b by {violation:.3g}")
     f, g = float(fun(x)), np.asarray(grad(x), dtype=float)
     B = np.eye(x.size) * (max(math.sqrt(float(dot(g, g))), 1e-300) / first_step)
-    history, evaluations, gradients = [f], 1, 1
+    history, evaluations, gradients, restarts = [f], 1, 1, 0
     message, converged, iterations = f"iteration limit {max_iter} reached", False, 0
     for iterations in range(1, max_iter + 1):
-        d, _ = solve_qp(B, g, a, np.maximum(limit - dot(a, x), 0.0))
+        try:
+            d, _ = solve_qp(B, g, a, np.maximum(limit - dot(a, x), 0.0))
+        except ValueError:
+            # The damped BFGS model lost positive definiteness to rounding on the working set's null
+            # space: restart it as at x0 (scaled identity) from here.
+            B = np.eye(x.size) * (max(math.sqrt(float(dot(g, g))), 1e-300) / first_step)
+            restarts += 1
+            try:
+                d, _ = solve_qp(B, g, a, np.maximum(limit - dot(a, x), 0.0))
+            except ValueError as exc:
+                message = f"the quadratic model is not positive definite after a restart ({exc})"
+                break
         slope = float(dot(g, d))
         if not slope < 0.0:
             message, converged = "no descent direction: a first-order point", True
@@ -237,4 +252,5 @@ def minimise(fun, grad, x0: np.ndarray, A: np.ndarray, b: np.ndarray, *, first_s
             message, converged = f"step shorter than {min_step:.3g}", True
             break
     return SQPResult(x=x, fun=f, grad=g, history=np.array(history), iterations=iterations,
-                     evaluations=evaluations, gradients=gradients, converged=converged, message=message)
+                     evaluations=evaluations, gradients=gradients, converged=converged, message=message,
+                     restarts=restarts)
