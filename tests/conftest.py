@@ -31,7 +31,8 @@ def pytest_collection_modifyitems(config, items):
     """Tests marked ``slurm`` start daemons as root and take minutes; tests marked ``exhaustive``
     repeat a claim with a far larger search budget (minutes each).  Both run only when the ``-m``
     expression names their marker (``.ci/run`` runs ``pytest -q -m slurm`` and ``-m exhaustive``), so
-    the README's test command and e.g. ``-m 'not slow'`` leave them out."""
+    the README's test command and e.g. ``-m 'not slow'`` leave them out.  Files holding a slow test
+    run first."""
     for marker in OPT_IN_MARKERS:
         if marker in config.getoption("markexpr"):
             continue
@@ -39,6 +40,10 @@ def pytest_collection_modifyitems(config, items):
         if opted:
             config.hook.pytest_deselected(items=opted)
             items[:] = [item for item in items if not item.get_closest_marker(marker)]
+    # Files with a test marked slow first: the README's command hands whole files to two processes in
+    # this order (pytest-xdist, --dist loadfile), so the long ones start at once and the two end together.
+    slow_files = {item.path for item in items if item.get_closest_marker("slow")}
+    items.sort(key=lambda item: item.path not in slow_files)
 
 
 @pytest.fixture

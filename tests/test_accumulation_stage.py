@@ -111,6 +111,7 @@ def planned_jobs(workdir, *targets):
             if len(line.split()) == 2 and line.split()[1].isdigit() and line.split()[0] != "total"}
 
 
+@pytest.mark.slow
 def test_changing_one_study_reruns_that_study_only(workdir):
     """Each rule gets only its own settings, so changing the Fig. 18 map's point count
     reruns the Fig. 18 map alone (not the Fig. 17 shards), and changing the Fig. 17 entries

@@ -139,6 +139,7 @@ def test_docstring_passes_numpydoc_validation(name):
     assert not errors, f"selfalign.{name}:\n" + "\n".join(errors)
 
 
+@pytest.mark.slow
 def test_every_example_runs_and_prints_what_it_shows():
     """The Examples of every exported name run under doctest (ELLIPSIS, NORMALIZE_WHITESPACE) and
     print exactly the output shown; every exported name has at least one example.  The failure

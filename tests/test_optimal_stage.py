@@ -59,6 +59,7 @@ TABLE = {
 }
 
 
+@pytest.mark.slow
 def test_comparison_holds_the_numbers_of_the_page(study):
     """Hypothesis (docs/explanation/fig6-revisited.md, "The comparison"): at Fig. 6's limits the exact solver
     gives the page's vbar, stroke, peak speed and acceleration for each answer (4 digits), the binding

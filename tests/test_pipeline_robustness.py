@@ -47,6 +47,7 @@ def assert_complete(path):
     assert any(values.size for values in data.values()), path
 
 
+@pytest.mark.slow
 def test_killed_run_leaves_complete_files_and_the_rerun_finishes(workdir):
     """SIGKILL to the whole process group of `snakemake -c1` while jobs are running — a
     seeded random moment up to 0.3 s after the first result appears, so that later jobs are
@@ -80,6 +81,7 @@ def test_killed_run_leaves_complete_files_and_the_rerun_finishes(workdir):
         assert_complete(workdir / name)
 
 
+@pytest.mark.slow
 def test_identical_inputs_give_identical_files(repo, tmp_path):
     """Two runs of the same targets in two fresh copies give byte-identical HDF5 files once the
     data of the datasets marked as measurements (``stats/cpu_time``) are zeroed in place: no time

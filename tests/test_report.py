@@ -56,6 +56,7 @@ def report(repo, small_pipeline, tmp_path_factory):
     return (work / "report.html").read_text(encoding="utf-8"), work
 
 
+@pytest.mark.slow
 def test_report_holds_every_figure_with_its_caption(report, repo):
     page, _ = report
     entries = report_entries(page)

@@ -85,6 +85,7 @@ def test_slurm_profile_heavy_rule_resources_and_unknown_rules(workdir):
     assert "mem_mb=4000" in out and "cpus_per_task=2" in out and "runtime=30" in out
 
 
+@pytest.mark.slow
 def test_benchmarks_run_tiny_structure():
     """Every benchmark runs in a tiny configuration and the table has one row per measurement;
     the engine and the minimal compiled reference loop end in the same states
@@ -113,6 +114,7 @@ def test_benchmarks_run_tiny_structure():
     json.dumps(report)  # the raw numbers are JSON as written by the workflow
 
 
+@pytest.mark.slow
 def test_full_pipeline_times_a_copy(tmp_path):
     """The pipeline benchmark runs `snakemake` in a copy and counts its outputs; the source tree
     gets no results/ or figures/."""
@@ -130,6 +132,7 @@ def test_full_pipeline_times_a_copy(tmp_path):
         measure.full_pipeline(repo, cores=1)
 
 
+@pytest.mark.slow
 def test_run_all_script_prints_the_table(repo, tmp_path):
     """benchmarks/run_all.py --tiny --no-pipeline prints the table and writes the raw JSON."""
     raw = tmp_path / "bench.json"

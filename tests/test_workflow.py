@@ -50,6 +50,7 @@ def trajectory_targets(workdir):
         "figures/fig07.png"]
 
 
+@pytest.mark.slow
 def test_trajectory_stage_end_to_end(workdir):
     """The workflow profile builds every trajectory result and Fig. 7; afterwards nothing is
     left to do, and restyling the figure (dpi) reruns the plot only, not the data."""
