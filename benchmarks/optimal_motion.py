@@ -33,6 +33,8 @@ SETTINGS = (
     ("T = 1, stroke 0.084, a = 3", 1.0, 0.084, 10.0, 3.0),
 )
 ORDERS = (4, 8, 12)
+#: SQP iterations, Fig. 6's budget (workflow config, stages.classification.fourier.max_iter).
+MAX_ITER = 130
 
 
 def _timed(func):
@@ -48,7 +50,8 @@ def compare(period: float, stroke: float, speed: float, accel: float) -> list[di
     rows.append({"method": "paper's family (three-phase, grid)", "vbar": float(steady_mean_velocity([three])[0]),
                  "cpu_s": seconds})
     for order in ORDERS:
-        opt, seconds = _timed(lambda: optimise_fourier(period, stroke, speed, accel, order=order, progress="quiet"))
+        opt, seconds = _timed(lambda: optimise_fourier(period, stroke, speed, accel, order=order, max_iter=MAX_ITER,
+                                                    progress="quiet"))
         rows.append({"method": f"paper's method (Fourier order {order}, SQP)", "vbar": float(opt.vbar),
                      "cpu_s": seconds})
     best, seconds = _timed(lambda: sa.optimal_profile(period, accel, stroke_max=stroke, velocity_max=speed))
