@@ -51,8 +51,10 @@ def tradeoff_time_margin(ax, front: dict, chosen: tuple[float, float] | None):
     ax.legend(fontsize="x-small")
 
 
-def design_map_panel(ax, m: dict, chosen: tuple[float, float] | None):
-    """Panel C: cases, non-physical cells hatched, region outlines, the chosen (y2'', y3'')."""
+def design_map_panel(ax, m: dict, chosen: tuple[float, float] | None,
+                     title: str = "C  design map at the chosen period, stroke and $c_\\mu$"):
+    """Panel C: cases, non-physical cells hatched, region outlines, the chosen (y2'', y3'') if the chosen
+    design is of the paper's family (the map's)."""
     y2, y3 = m["y2"], m["y3"]
     case_map(ax, y2, y3, m["case"])
     handles = [hatch_cells(ax, y2, y3, ~m["physical"].astype(bool), "no physical profile (case 0)")]
@@ -68,7 +70,7 @@ def design_map_panel(ax, m: dict, chosen: tuple[float, float] | None):
         handles.append(Line2D([], [], marker="*", ms=10, color="k", linestyle="none", label="chosen"))
     ax.set_xlabel("$y_2''$ [m/s$^2$]")
     ax.set_ylabel("$y_3''$ [m/s$^2$]")
-    ax.set_title("C  design map at the chosen period, stroke and $c_\\mu$", loc="left", fontsize="medium")
+    ax.set_title(title, loc="left", fontsize="medium")
     ax.legend(handles=handles, fontsize="x-small", loc="upper left", framealpha=0.9)
 
 
@@ -90,8 +92,11 @@ def figure_design(result: dict):
         if same.size:
             margin_point = (float(performance["margin"]), float(front["t_estimate"][same[0]]))
     tradeoff_time_margin(ax_b, g["front_time_margin"]["datasets"], margin_point)
-    if "map" in g:
+    if "map" in g and a.get("family", "three_phase") == "three_phase":
         design_map_panel(ax_c, g["map"]["datasets"], (float(profile["y2"]), float(profile["y3"])) if found else None)
+    elif "map" in g:  # the map is of the best three-phase design; the chosen motion is not on it
+        design_map_panel(ax_c, g["map"]["datasets"], None,
+                         "C  design map of the best three-phase design\n(the chosen design is of the optimal family)")
     spec = a["spec"]
     verdict = "guaranteed" if a["found"] else "no guaranteed design"
     fig.suptitle(f"{spec['name']}: {verdict}" + (f"; period {1e3 * float(profile['period']):.4g} ms, stroke "
