@@ -398,13 +398,17 @@ def test_a_looser_acceleration_limit_never_slows_the_part_at_fig6_limits():
 @pytest.mark.parametrize("scale", [1e-3, 7.0])
 def test_scaling(scale):
     """Hypothesis ("Scaling"): t -> l t, x, y -> l^2 x, l^2 y leaves the model alone, so the period l dt
-    with the limits l velocity_max and l^2 stroke_max gives the motion with durations times l and the
-    mean velocity times l (to 1e-9), with the same structure."""
+    with the limits l velocity_max and l^2 stroke_max gives the mean velocity times l (to 1e-9), with the
+    same structure, within the scaled limits.  The break times, peak speed and stroke themselves are not
+    compared: here the optimum is degenerate (the stick of one sub-cycle can lend time to the other's at
+    the same mean velocity to the last digit), and which of those motions the polish returns depends on
+    rounding (under OPENBLAS_CORETYPE=Prescott with two threads the two sub-cycles come out 3.5 and
+    3.496 long at l = 7, equally fast, with peak speeds 1.330 and 1.336 under the limit 1.4)."""
     one = optimal_profile(1.0, 3.0, velocity_max=0.2, stroke_max=0.03)
     scaled = optimal_profile(scale, 3.0, velocity_max=0.2 * scale, stroke_max=0.03 * scale**2)
     assert scaled.vbar == pytest.approx(scale * one.vbar, rel=1e-9)
-    assert scaled.family == one.family and scaled.binding == one.binding
-    assert scaled.profile.breaks == pytest.approx(scale * one.profile.breaks, rel=1e-9, abs=1e-12 * scale)
+    assert scaled.family == one.family and scaled.binding == one.binding and scaled.sub_cycles == one.sub_cycles
+    assert scaled.peak_velocity <= 0.2 * scale and scaled.stroke <= 0.03 * scale**2
 
 
 def test_sub_cycles_beat_one_squeezed_slide():
