@@ -116,6 +116,12 @@ def motions(spec: DesignSpec) -> list[Motion]:
         fitting = np.sqrt(strokes / unit_stroke) * s_lo.T
         fitting = fitting[(fitting >= lo * (1 - 1e-12)) & (fitting <= hi * (1 + 1e-12))].clip(lo, hi)
         periods = fitting if spec.min_stroke is not None else np.concatenate([grid, fitting])
+        held = stick_offset(spec, accel, c_values, mu_lo) < np.inf
+        if spec.accumulation:  # every entry ends at x_stick_min: its range over mu must fit (eq. 41)
+            with np.errstate(invalid="ignore"):  # inf - inf where the strip does not hold: dropped
+                held &= 0.5 * (stick_offset(spec, accel, c_values, mu_lo)
+                               - stick_offset(spec, accel, c_values, mu_hi)) <= spec.tolerance
+        holding = c_values[held]
         for period in periods:
             for limit in strokes:
                 best = optimal_profile(period / s_lo.T, a, stroke_max=limit / s_lo.L * (1 + 1e-9), friction=friction)
@@ -124,12 +130,7 @@ def motions(spec: DesignSpec) -> list[Motion]:
                 if key in seen or (spec.min_stroke is not None and stroke < spec.min_stroke * (1 - 1e-6)):
                     continue
                 seen.add(key)
-                held = stick_offset(spec, accel, c_values, mu_lo) < np.inf
-                if spec.accumulation:  # every entry ends at x_stick_min: its range over mu must fit (eq. 41)
-                    with np.errstate(invalid="ignore"):  # inf - inf where the strip does not hold: dropped
-                        held &= 0.5 * (stick_offset(spec, accel, c_values, mu_lo)
-                                       - stick_offset(spec, accel, c_values, mu_hi)) <= spec.tolerance
-                for c in c_values[held]:
+                for c in holding:
                     found.append(Motion(float(period), float(accel), float(limit), float(stroke), float(c),
                                         best.profile.breaks * s_lo.T,
                                         best.profile.accels * s_lo.unit("acceleration"),
