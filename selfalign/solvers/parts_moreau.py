@@ -262,6 +262,9 @@ def _advance(x, v, gap, width, mass, factor, zone, x_mu, c_mu, e, impulse, h, to
     ``impulse`` the table impulses of one period's steps, ``every`` the sampling interval (samples into xs,
     vs; 0: none); ``rows``, ``joined``, ``lower`` and ``work`` are scratch.  Returns the largest overlap of
     neighbours."""
+    x, v, gap, width, mass, factor = _borrowed(x), _borrowed(v), _borrowed(gap), _borrowed(width), \
+        _borrowed(mass), _borrowed(factor)
+    rows, joined, lower, work = _borrowed(rows), _borrowed(joined), _borrowed(lower), _borrowed(work)
     n = x.size
     half = 0.5 * h
     period = impulse.size
@@ -302,6 +305,13 @@ def _advance(x, v, gap, width, mass, factor, zone, x_mu, c_mu, e, impulse, h, to
     return overlap
 
 
+def _borrowed(array):
+    """``array`` itself; compiled (:func:`_stepper`), a view without reference counting
+    (``selfalign.solvers.engine.compiled.borrowed``), so that the calls of the chain minimiser in every
+    step count no references to their arrays."""
+    return array
+
+
 @functools.cache
 def _stepper():
     """:func:`_advance` compiled by numba (once per process), with the model functions it calls registered
@@ -312,13 +322,15 @@ def _stepper():
     kernel()
     from numba import njit
     from numba.core.errors import NumbaError
-    from numba.extending import register_jitable
+    from numba.extending import overload, register_jitable
 
     from ..model.registry import FORMULAS
+    from .engine.compiled import borrowed
 
     for func in _model_closure(chain_minimiser):
         if func not in FORMULAS:
             register_jitable(func)
+    overload(_borrowed)(lambda array: lambda array: borrowed(array))
     compiled = njit(nogil=True, error_model="numpy")(_advance)
 
     def advance(*args):
