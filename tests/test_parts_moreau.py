@@ -68,6 +68,33 @@ def test_one_part_of_any_mass_is_the_one_part_step():
     assert abs(res.x_end[0] - x_ref) <= 1e-12 and abs(res.v_end[0] - v_ref) <= 1e-12
 
 
+def test_each_part_sees_the_stop_zone_over_its_own_width():
+    """Sect. 3.3, eqs. 7-9: a part's mu_bar rises over its OWN width, not the zone's: one part 0.03 wide on
+    StopZone(x_mu = 0.5, w = 0.05, c_mu = 2.5) runs as the one-part scheme on StopZone(0.5, 0.03, 2.5),
+    to 1e-12, and not as on the 0.05 zone (the two end positions differ by more than 1e-3)."""
+    narrow = sa.StopZone(0.5, 0.03, 2.5)
+    x_ref, v_ref = one_part_moreau(sa.Scene(PROFILE, narrow, x0=0.35, periods=20), 500)
+    x_wide, _ = one_part_moreau(sa.Scene(PROFILE, ZONE, x0=0.35, periods=20), 500)
+    res = moreau_parts(PROFILE, [Part(0.35, width=0.03)], surface=ZONE, periods=20, steps_per_period=500)
+    assert abs(res.x_end[0] - x_ref) <= 1e-12 and abs(res.v_end[0] - v_ref) <= 1e-12
+    assert abs(x_wide - x_ref) > 1e-3
+
+
+def test_parts_that_never_meet_move_alone():
+    """Model: without contact (gaps that never close) every part moves by its own eq. (6): three parts
+    about 1 apart, of widths 0.05, 0.03, 0.04, each equal to the
+    one-part scheme on a zone of its width to 1e-12 (mass and friction factor 1); the front one stops in
+    the zone."""
+    widths, starts = (0.05, 0.03, 0.04), (-2.6, -1.5, 0.45)
+    res = moreau_parts(PROFILE, [Part(x, width=w) for x, w in zip(starts, widths)], surface=ZONE, periods=25,
+                       steps_per_period=400)
+    assert res.max_overlap == 0.0
+    for i, (x0, w) in enumerate(zip(starts, widths)):
+        x_ref, v_ref = one_part_moreau(sa.Scene(PROFILE, sa.StopZone(0.5, w, 2.5), x0=x0, periods=25), 400)
+        assert abs(res.x_end[i] - x_ref) <= 1e-12 and abs(res.v_end[i] - v_ref) <= 1e-12, i
+    assert 0.5 < res.x_end[2] < 0.54 and res.v_end[2] == 0.0
+
+
 #: Two parts on the Fig. 18 profile: the rear one (friction factor 0.7) walks faster than the front one,
 #: catches it in every forward slip and pushes it, then slides back alone when y'' = 0.9 > 0.7.
 CHASE = [Part(0.0, width=W, friction_factor=0.7), Part(0.06, width=W)]
