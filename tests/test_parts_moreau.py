@@ -185,6 +185,28 @@ def test_simultaneous_impact_of_three_touching_parts():
     assert np.max(np.abs(res.v_end - [-1 / 3, 2 / 3, 2 / 3])) <= 1e-8, res.v_end
 
 
+@pytest.mark.parametrize("restitution", [0.0, 0.5, 1.0])
+def test_impact_between_sliding_parts_converges_to_the_closed_form(restitution):
+    """Eqs. 2, 6 on a table at rest (y'' = 0), friction factor 1: a part sliding at v = 1 decelerates at 1,
+    x(t) = t - t^2 / 2, and hits a part of mass 2 at rest g = 0.1 ahead at speed v_c = sqrt(1 - 2 g);
+    Newton's law leaves (v_c (1 - 2 e) / 3, v_c (1 + e) / 3), and each part then slides to rest over
+    u |u| / 2.  The end positions of Moreau's scheme converge to these with order 1: fitted slope of
+    log(error envelope) over log(h), h = dt/125 ... dt/8000, in [0.8, 1.2] (envelope as in the
+    convergence test above: the impact falls anywhere inside a step)."""
+    g = 0.1
+    v_c = math.sqrt(1.0 - 2.0 * g)
+    rear, front = v_c * (1.0 - 2.0 * restitution) / 3.0, v_c * (1.0 + restitution) / 3.0
+    exact = np.array([g + rear * abs(rear) / 2.0, g + W + front * front / 2.0])
+    parts = [Part(0.0, 1.0, width=W), Part(g + W, width=W, mass=2.0)]
+    base = np.array([125, 250, 500, 1000, 2000, 4000, 8000])
+    envelope = [max(np.max(np.abs(moreau_parts(AT_REST, parts, restitution=restitution, periods=2,
+                                               steps_per_period=int(n * (1 + j / 6))).x_end - exact))
+                    for j in range(6)) for n in base]
+    order = np.polyfit(np.log(AT_REST.dt / base), np.log(envelope), 1)[0]
+    assert 0.8 <= order <= 1.2, (order, envelope)
+    assert envelope[-1] < 2e-4
+
+
 @pytest.mark.parametrize("steps", [100, 1000, 10000])
 def test_overlap_is_below_h_times_the_approach_speed(steps):
     """Module docstring: contacts are decided at the midpoint and kept at the velocity level, so parts
