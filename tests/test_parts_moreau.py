@@ -49,13 +49,17 @@ def test_one_part_is_the_one_part_moreau_step(profile, surface, x0, v0, periods)
     one-part scheme's (the same exact table impulse, midpoint friction and soft threshold), so the end
     state equals ``simulate(..., method="moreau")`` at the same step to 1e-12 (the two differ only in
     rounding: the one-part solver keeps x - x_mu, this one x).  The zone case stops in the transition
-    region (eq. 41); the others walk; piecewise-constant, smooth and finite-jerk profiles."""
+    region (eq. 41); the others walk; piecewise-constant, smooth and finite-jerk profiles.  Checked against
+    both ``simulate`` and the batch driver stepping every period (no fast-forward)."""
     steps = 700
-    scene = sa.Scene(profile, surface, x0=x0, v0=v0, periods=periods)
+    scene = sa.Scene(profile, surface, x0=x0, v0=v0, periods=periods, method="moreau",
+                     solver_options={"steps_per_period": steps})
     x_ref, v_ref = one_part_moreau(scene, steps)
+    traj = sa.simulate(scene)                           # the same, with the fast-forward of repeating periods
     res = moreau_parts(profile, [Part(x0, v0, width=W)], surface=surface, periods=periods, steps_per_period=steps)
-    assert res.steps == steps * periods and res.h == profile.dt / steps
+    assert res.steps == steps * periods and res.h == traj.options["h"] == profile.dt / steps
     assert abs(res.x_end[0] - x_ref) <= 1e-12 and abs(res.v_end[0] - v_ref) <= 1e-12, (res.x_end, x_ref)
+    assert abs(res.x_end[0] - traj.x_end) <= 1e-12 and abs(res.v_end[0] - traj.v_end) <= 1e-12
     assert abs(res.x_end[0] - x0) > 0.01                 # it moved: the comparison is not of two rests
 
 
