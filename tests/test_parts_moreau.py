@@ -165,6 +165,20 @@ def test_pushed_cluster_moves_with_the_mass_weighted_friction():
     assert lone.x_end[0] > 0.2
 
 
+@pytest.mark.parametrize("x0", [0.3, 0.31, 0.32, 0.33])
+def test_pushed_pair_stops_where_its_mean_friction_holds_it(x0):
+    """Eq. 41 for a cluster: two identical touching parts (w = 0.05, e = 0) walk into the stop zone of
+    Sect. 7.2 as one part with the mean friction (mu_bar_rear + mu_bar_front) / 2, and stop for good where
+    it first reaches max|y''| = 2.2: the front one wholly on the high friction (2.5), the rear one's
+    mu_bar = 1.9, i.e. its front at x_mu + 0.6 w (eq. 9).  After 60 periods from four starts: at rest
+    there to 1e-9, the front part a width ahead to 1e-12."""
+    res = moreau_parts(PROFILE, [Part(x0 - W, width=W), Part(x0, width=W)], surface=ZONE, periods=60,
+                       steps_per_period=500)
+    assert res.v_end.tolist() == [0.0, 0.0]
+    assert abs(res.x_end[0] - (ZONE.x_mu + 0.6 * W)) <= 1e-9
+    assert abs(res.x_end[1] - res.x_end[0] - W) <= 1e-12
+
+
 @pytest.mark.parametrize("restitution, after", [(0.0, (0.25, 0.25)), (0.5, (-0.125, 0.375)), (1.0, (-0.5, 0.5))])
 def test_impact_conserves_momentum_and_obeys_newtons_law(restitution, after):
     """Model (``impact_velocities``): masses 1 and 3, velocities (1, 0), on a table at rest with friction
