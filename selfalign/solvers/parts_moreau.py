@@ -129,9 +129,12 @@ class PartsMoreauResult:
     >>> import selfalign as sa
     >>> from selfalign.model.parts import Part
     >>> from selfalign.solvers.parts_moreau import moreau_parts
-    >>> result = moreau_parts(sa.ThreePhaseProfile(1.05, 0.084, 2.2, 0.9), [Part(0.0, width=0.05)], periods=2)
-    >>> result.steps, result.x.shape if result.x is not None else None
-    (2000, None)
+    >>> profile = sa.ThreePhaseProfile(1.05, 0.084, 2.2, 0.9)
+    >>> result = moreau_parts(profile, [Part(0.0, width=0.05)], periods=2, sample_every=500)
+    >>> result.steps, result.x.shape, result.t.round(3).tolist()
+    (2000, (5, 1), [0.0, 0.525, 1.05, 1.575, 2.1])
+    >>> bool(result.x[-1, 0] == result.x_end[0]), result.x_end.flags.writeable
+    (True, False)
     """
 
     t_end: float
