@@ -149,6 +149,20 @@ def test_touching_identical_parts_move_as_one(profile):
     assert profile is PROFILE or np.min(lone.v) < -0.01              # and slides back
 
 
+def test_a_chain_of_touching_identical_parts_moves_as_one():
+    """Model (``chain_minimiser``): 30 identical touching parts (width 1/16, exact in binary, so that they
+    touch exactly) at one velocity move as one part: part i at the lone part's position plus i widths, at
+    every sample to 1e-12, through stick and slip in both directions ((y2'', y3'') = (2.3, 1.3))."""
+    profile = sa.ThreePhaseProfile(1.0, 0.084, 2.3, 1.3)
+    width = 1 / 16
+    chain = moreau_parts(profile, [Part(i * width, 0.05, width=width) for i in range(30)], periods=4,
+                         steps_per_period=300, sample_every=13)
+    lone = moreau_parts(profile, [Part(0.0, 0.05, width=width)], periods=4, steps_per_period=300, sample_every=13)
+    assert np.max(np.abs(chain.x - lone.x - width * np.arange(30))) <= 1e-12
+    assert np.max(np.abs(chain.v - lone.v)) <= 1e-12
+    assert np.min(lone.v) < -0.01 < 0.1 < np.max(lone.v)
+
+
 def test_pushed_cluster_moves_with_the_mass_weighted_friction():
     """Model (``selfalign.model.parts``): parts pushed together move as one part with the mass-weighted
     friction factor sum m_i k_i / sum m_i.  Rear part m = 3, k = 0.8, front part m = 1, k = 1.4 (weighted
