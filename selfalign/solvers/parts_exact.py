@@ -242,6 +242,7 @@ class _Chain:
         self.a = np.zeros(n)                        # accelerations relative to the table
         self.sigma = np.zeros(n, dtype=np.int64)    # the direction of the kinetic friction: -1, 0 (stuck), +1
         self.joined = np.zeros(max(n - 1, 0), dtype=bool)   # parts i and i + 1 move together
+        self.dirty = np.ones(n, dtype=bool)         # parts whose cluster the next settle decides again
         amax = profile.max_abs_acceleration
         speed = profile.velocity_swing + float(np.max(np.abs(self.v)))
         self.length_scale = float(np.max(self.w)) + speed * profile.dt
@@ -314,19 +315,25 @@ class _Chain:
             dx, vel1 = A.step(A.QUADRATIC, 0.0, vel, acc, s)
             if first in stops or vel1 * self.sigma[first] < 0.0:     # tie rules 2-3
                 vel1 = 0.0
+                self.dirty[first:last + 1] = True
             self.x[first] += dx
             for j in range(first + 1, last + 1):
                 self.x[j] = self.x[j - 1] + self.w[j]
             self.v[first:last + 1] = vel1
 
     # -- at an event --------------------------------------------------------------------------------------
-    def settle(self, ay: float, closes=(), count: bool = True) -> None:
-        """Decide the contacts, impacts, clusters and accelerations at the current state under y'' = ay."""
-        n, v, m = self.n, self.v, self.m
+    def settle(self, ay: float, closes=(), count: bool = True, everything: bool = False) -> None:
+        """Decide the contacts, impacts, clusters and accelerations at the current state under y'' = ay: every
+        cluster (``everything``, at a break) or those an event touched (the others keep their accelerations,
+        which a new decision would give again)."""
+        n, v, m, dirty = self.n, self.v, self.m, self.dirty
+        if everything:
+            dirty[:] = True
         touching = self.joined.copy()
         for i in range(n - 1):
             if not touching[i] and (i in closes or self.gap(i) <= self.contact_tolerance(i)):
                 touching[i] = True
+                dirty[i:i + 2] = True
                 if count and (i in closes or v[i] > v[i + 1]):
                     self.impacts += 1
         for first, last in self.runs(touching):
@@ -335,18 +342,25 @@ class _Chain:
                 impact_velocities(v[first:last + 1], m[first:last + 1], self.e, touching[first:last], out,
                                   self.work[:IMPACT_WORK_ROWS, first:last + 1])
                 v[first:last + 1] = out
+                dirty[first:last + 1] = True
         together = touching & (np.abs(v[1:] - v[:-1]) <= self.v_floor)
         was_joined, old_sigma = self.joined.copy(), self.sigma.copy()
         for first, last in self.runs(together):
             group = slice(first, last + 1)
+            if not np.any(dirty[group]):
+                continue
+            dirty[group] = True
             if last > first and np.any(v[group] != v[first]):
                 v[group] = np.dot(m[group], v[group]) / np.sum(m[group])    # tie rule 5: momentum kept
             self.decide(first, last, ay)
         for i in range(n - 1):
-            self.joined[i] = together[i] and abs(self.a[i + 1] - self.a[i]) <= self.a_tol
-            if was_joined[i] and not self.joined[i] and count:
-                self.openings += 1
+            if dirty[i] or dirty[i + 1]:
+                self.joined[i] = together[i] and abs(self.a[i + 1] - self.a[i]) <= self.a_tol
+                if was_joined[i] and not self.joined[i] and count:
+                    self.openings += 1
         for first, last in self.runs(self.joined):
+            if not dirty[first]:
+                continue
             cluster = slice(first, last + 1)
             if last > first and np.any(self.a[cluster] != self.a[first]):
                 self.a[cluster] = np.dot(m[cluster], self.a[cluster]) / np.sum(m[cluster])   # tie rule 6
@@ -361,6 +375,7 @@ class _Chain:
                     self.sticks += 1
                 else:
                     self.slips += 1
+        dirty[:] = False
 
     def decide(self, first: int, last: int, ay: float) -> None:
         """Accelerations of the parts first..last, touching at one velocity, under y'' = ay
@@ -388,13 +403,13 @@ class _Chain:
         breaks, accels, dt = profile.breaks, profile.accels, profile.dt
         pieces = accels.size
         stalled = 0
-        self.settle(float(accels[0]), count=False)
+        self.settle(float(accels[0]), count=False, everything=True)
         for period in range(periods):
             for p in range(pieces):
                 ay = float(accels[p])
                 if period or p:
                     self.breaks += 1
-                    self.settle(ay)
+                    self.settle(ay, everything=True)
                 seg = breaks[p + 1] - breaks[p]
                 s0 = 0.0
                 while True:
