@@ -163,6 +163,25 @@ def test_an_impact_keeps_momentum_and_scales_the_relative_velocity_by_e(e):
     assert abs((result.v_end[1] - result.v_end[0]) - e * (v0[0] - v0[1])) <= TOL
 
 
+@pytest.mark.parametrize("e, after", [(1.0, (-1.0 / 3.0, 2.0 / 3.0, 2.0 / 3.0)), (0.0, (1.0 / 3.0,) * 3)])
+def test_newtons_cradle_takes_the_simultaneous_impact_law(e, after):
+    """Hypothesis: the impact law is simultaneous over the touching run (docs/explanation/several-parts.md,
+    impact_velocities): a part hitting two equal touching parts at rest with speed u leaves them with
+    (-1/3, 2/3, 2/3) u for e = 1 (no wave: not (0, 0, 1) u) and (1/3, 1/3, 1/3) u for e = 0.  Under y'' = 0
+    the rear part arrives after s* = 1 - sqrt(1 - 2 g) with u = 1 - s* (eq. 21's deceleration, x'' = -1), and
+    after the impact every part decelerates toward rest by 1, so at t = 0.01 the velocities are known in
+    closed form (to 1e-12); the front two stay one cluster."""
+    flat = sa.PiecewiseConstantProfile([0.0, 0.01], [0.0], 0.0, 0.0)
+    width, gap = 0.0625, 0.001
+    parts = [Part(0.0, 1.0, width=width), Part(gap + width, width=width), Part(gap + 2 * width, width=width)]
+    result = simulate_parts(flat, parts, restitution=e, periods=1)
+    s_star = 1.0 - math.sqrt(1.0 - 2.0 * gap)
+    u = 1.0 - s_star
+    expected = [f * u - math.copysign(0.01 - s_star, f) for f in after]
+    assert result.impacts == 1 and result.openings == 0
+    assert np.all(np.abs(result.v_end - expected) <= TOL)
+
+
 def test_a_part_that_stops_exactly_at_its_neighbour_grazes_it():
     """Hypothesis: a part sliding at v = 1 under y'' = 0 stops after 1 at x = 0.5 (eq. 21), exactly where a
     part at rest begins: the gap closes with zero relative velocity at the moment v = 0 (tie rules 2, 4),
