@@ -92,6 +92,20 @@ _EPS = np.finfo(float).eps
 class PartsResult:
     """The end state and event counts of a run of several parts (:func:`simulate_parts`).
 
+    The solver builds it; its constructor checks nothing.  The events are counted by kind, each at the
+    event time it happens (one event time may count several: a break and the slip it starts).
+
+    Parameters
+    ----------
+    t_end : float
+        The end time (Attributes).
+    x_end, v_end : numpy.ndarray
+        The end state (Attributes).
+    sticks, slips, impacts, openings, breaks : int
+        The events per kind (Attributes).
+    status, message : str
+        How the run ended (Attributes).
+
     Attributes
     ----------
     t_end : float
@@ -115,6 +129,8 @@ class PartsResult:
         holds it for good: k_i mu_bar_i >= max|y''| for every part i) or ``"error"`` (see ``message``).
     message : str
         Why the run ended with ``"error"``; empty otherwise.
+    events : int
+        All events counted, of every kind.
 
     Examples
     --------
