@@ -19,7 +19,7 @@ _EXPORTS = {
     "PiecewiseConstantProfile": "model.profiles", "PolynomialProfile": "model.profiles",
     "Profile": "model.profiles",
     "ThreePhaseProfile": "model.profiles",
-    "Record": "model.scene", "Scene": "model.scene", "SIScale": "model.units",
+    "Record": "model.scene", "Scene": "model.scene", "SIScale": "model.units", "Part": "model.parts",
     "load_scene": "io.scene_files", "scene_from_dict": "io.scene_files",
     "simulate": "solvers.driver", "simulate_batch": "solvers.driver",
     "EventKind": "solvers.outcomes", "Reason": "solvers.outcomes", "Status": "solvers.outcomes",

@@ -28,6 +28,7 @@ from .model.errors import SelfalignError as SelfalignError
 from .model.friction import FrictionLaw as FrictionLaw
 from .model.friction import StopZone as StopZone
 from .model.friction import Uniform as Uniform
+from .model.parts import Part as Part
 from .model.profiles import FiniteJerkProfile as FiniteJerkProfile
 from .model.profiles import FourierProfile as FourierProfile
 from .model.profiles import PiecewiseConstantProfile as PiecewiseConstantProfile

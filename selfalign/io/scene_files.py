@@ -16,6 +16,7 @@ from pathlib import Path
 
 from ..model.errors import NonPhysicalProfile, SceneError
 from ..model.friction import FrictionLaw, StopZone, Uniform
+from ..model.parts import Part
 from ..model.profiles import FiniteJerkProfile, FourierProfile, PolynomialProfile, ThreePhaseProfile
 from ..model.scene import Record, Scene
 from ..model.units import SIScale
@@ -120,6 +121,12 @@ def _refuse_idle_keys(data: dict, source: str) -> None:
     if record.get("events") and method == "moreau":
         raise SceneError(f"{source}: record.events: does nothing with method 'moreau' (time-stepping locates no "
                          f"events); remove it or use method exact or ivp")
+    if "restitution" in data and "parts" not in data:
+        raise SceneError(f"{source}: restitution: does nothing without parts (it acts between parts); remove it or "
+                         f"give parts")
+    if "parts" in data and ({"x0", "v0"} & set(data.get("start", {}))):
+        raise SceneError(f"{source}: start.x0, start.v0: do nothing with parts (each part gives its own x0, v0); "
+                         f"remove them")
     if "max_periods" in horizon and "periods" in horizon:
         raise SceneError(f"{source}: horizon.max_periods: does nothing with periods: N (it is the budget of until: "
                          f"rest); remove one of them")
@@ -144,7 +151,7 @@ def scene_from_dict(data: dict, source: str = "<scene>", name: str | None = None
     data : dict
         The scene in the YAML layout: ``profile`` and ``horizon``, optionally ``name``,
         ``description``, ``units``, ``si``, ``surface``, ``body``, ``friction``, ``start``,
-        ``solver`` and ``record``.
+        ``solver``, ``record``, ``parts`` and ``restitution``.
     source : str, optional
         Where the data came from; every error message starts with it.  Default "<scene>".
     name : str, optional
@@ -252,6 +259,19 @@ def scene_from_dict(data: dict, source: str = "<scene>", name: str | None = None
         raise SceneError(f"{source}: horizon: give periods: N, or until: rest (with max_periods)")
     solver = data.get("solver", {})
     record = data.get("record", {})
+    parts = None
+    if "parts" in data:
+        width = surface.w if isinstance(surface, StopZone) else None
+        for i, p in enumerate(data["parts"]):
+            if "width" not in p and width is None:
+                raise SceneError(f"{source}: parts[{i}].width is required on a {s['kind']} surface (a part's extent "
+                                 f"decides its contacts); on a stop zone it defaults to body.width")
+        try:
+            parts = [Part(value(p, "x0", "length"), value(p, "v0", "velocity", 0.0),
+                          width=value(p, "width", "length") if "width" in p else width, mass=p.get("mass", 1.0),
+                          friction_factor=p.get("friction_factor", 1.0)) for p in data["parts"]]
+        except ValueError as exc:
+            raise SceneError(f"{source}: parts: {exc}") from None
     try:
         scene = Scene(
             profile=profile, surface=surface, friction=friction,
@@ -265,6 +285,7 @@ def scene_from_dict(data: dict, source: str = "<scene>", name: str | None = None
                           events=record.get("events", False), arcs=record.get("arcs", False),
                           rerun=record.get("rerun", False)),
             name=data.get("name", name or "scene"), si=si, description=data.get("description", ""),
+            parts=parts, restitution=data.get("restitution", 0.0),
         )
     except (ValueError, TypeError) as exc:
         raise SceneError(f"{source}: {exc}") from None

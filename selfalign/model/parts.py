@@ -42,6 +42,10 @@ IMPACT_WORK_ROWS = CHAIN_WORK_ROWS + 2
 class Part:
     """One rigid part on the table, among several.
 
+    A :class:`~selfalign.Scene` with ``parts=[Part(...), ...]`` simulates several parts on one line of the
+    table, the rear-most first, with unilateral contacts between neighbours and Newton's impact law
+    (docs/explanation/several-parts.md).  Each part carries its own start, extent, mass and friction.
+
     Parameters
     ----------
     x0 : float
@@ -56,6 +60,19 @@ class Part:
     friction_factor : float, optional
         Its friction coefficient relative to the table's mu, > 0 (mu_bar is multiplied by it).  Default 1.
 
+    Attributes
+    ----------
+    x0 : float
+        Start position of the front.
+    v0 : float
+        Start velocity relative to the table.
+    width : float
+        Width w.
+    mass : float
+        Mass (relative).
+    friction_factor : float
+        Friction coefficient relative to the table's mu.
+
     Raises
     ------
     TypeError
@@ -65,14 +82,14 @@ class Part:
 
     See Also
     --------
-    check_parts : Checks a list of parts (order, overlaps).
+    Scene : Takes several parts (``parts=[Part(...), ...]``) and their restitution.
 
     Examples
     --------
-    >>> from selfalign.model.parts import Part
-    >>> Part(0.0, width=0.05)
+    >>> import selfalign as sa
+    >>> sa.Part(0.0, width=0.05)
     Part(x0=0.0, v0=0.0, width=0.05, mass=1.0, friction_factor=1.0)
-    >>> Part(0.0, width=-1.0)
+    >>> sa.Part(0.0, width=-1.0)
     Traceback (most recent call last):
     ...
     ValueError: width must be > 0, got -1.0

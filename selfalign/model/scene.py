@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 
 from .errors import SceneError, check_finite, check_integer
 from .friction import FrictionLaw, StopZone, Uniform
+from .parts import Part, check_parts, check_restitution
 from .profiles import Profile
 from .units import SIScale
 
@@ -153,6 +154,15 @@ class Scene:
         The SI scale of a scene file given in SI units.
     description : str, optional
         Free text.
+    parts : sequence of Part, optional
+        Several parts on the table instead of the paper's one (:class:`~selfalign.Part`, the rear-most first,
+        not overlapping; docs/explanation/several-parts.md): each carries its own start x0, v0, so the
+        scene's ``x0`` and ``v0`` stay 0, and on a stop zone each part's width must be the zone's body width
+        ``w``.  The start phase is 0, the friction law Coulomb's, and nothing is recorded besides the end
+        state.  Stored as a tuple.  Default None: the paper's single part.
+    restitution : float, optional
+        Newton's coefficient of restitution e in [0, 1] of the contacts between ``parts`` (0 plastic, 1
+        elastic).  Default 0.
 
     Attributes
     ----------
@@ -163,14 +173,15 @@ class Scene:
     Raises
     ------
     TypeError
-        If ``profile``, ``surface``, ``friction``, ``record``, ``si`` or ``solver_options``
-        has the wrong type, or ``x0``, ``v0``, ``phase``, ``periods`` or ``max_periods`` is
-        not a real number.
+        If ``profile``, ``surface``, ``friction``, ``record``, ``si``, ``solver_options`` or
+        ``parts`` has the wrong type, or ``x0``, ``v0``, ``phase``, ``periods``, ``max_periods`` or
+        ``restitution`` is not a real number.
     SceneError
         If ``x0``, ``v0`` or ``phase`` is not finite or ``phase`` lies outside [0, 1); the
         horizon is missing, gives both ``periods`` and ``until="rest"``, or its counts are
-        not integers in [1, 2**53]; ``method`` is unknown; or the recording would need more
-        than 2 GiB.
+        not integers in [1, 2**53]; ``method`` is unknown; the recording would need more
+        than 2 GiB; ``parts`` is empty, overlapping, or comes with a start, phase, friction law or record
+        it cannot have; or ``restitution`` lies outside [0, 1] or comes without ``parts``.
 
     See Also
     --------
@@ -208,6 +219,8 @@ class Scene:
     name: str = "scene"
     si: SIScale | None = None
     description: str = ""
+    parts: tuple[Part, ...] | None = None
+    restitution: float = 0.0
 
     def __post_init__(self):
         for key, kind, allowed in (("profile", Profile, "a selfalign profile"),
@@ -238,6 +251,7 @@ class Scene:
         object.__setattr__(self, "until", until)
         if self.method not in METHODS:
             raise SceneError(f"solver.method must be one of {list(METHODS)}, got {self.method!r}")
+        self._check_parts()
         if self.record.dense:
             size = self.horizon_periods * self.record.samples_per_period * (1 + len(self.record.series)) * 8
             if size > RECORD_MEMORY_LIMIT:
@@ -245,6 +259,35 @@ class Scene:
                                  f"samples per period over {self.horizon_periods} periods need about "
                                  f"{size / 1024**3:.3g} GiB, more than the {RECORD_MEMORY_LIMIT / 1024**3:g} GiB "
                                  "allowed; record fewer periods or samples")
+
+    def _check_parts(self) -> None:
+        """SceneError unless ``parts`` and ``restitution`` are consistent with the rest of the scene."""
+        try:
+            object.__setattr__(self, "restitution", check_restitution(self.restitution))
+            if self.parts is not None:
+                object.__setattr__(self, "parts", check_parts(self.parts))
+        except ValueError as exc:
+            raise SceneError(str(exc)) from None
+        if self.parts is None:
+            if self.restitution != 0.0:
+                raise SceneError(f"restitution = {self.restitution!r} acts between parts: give parts=[Part(...), ...]")
+            return
+        if self.x0 != 0.0 or self.v0 != 0.0:
+            raise SceneError("x0, v0: with parts each Part carries its own start (Part(x0, v0, ...)); leave the "
+                             "scene's x0 and v0 at 0")
+        if self.phase != 0.0:
+            raise SceneError(f"phase = {self.phase!r}: a scene with parts starts at phase 0")
+        if self.friction.kind != "coulomb":
+            raise SceneError(f"friction: a scene with parts simulates Coulomb friction only, got "
+                             f"{self.friction.kind!r}")
+        if self.record != Record():
+            raise SceneError("record: a scene with parts keeps the end state only (Record())")
+        if isinstance(self.surface, StopZone):
+            for i, part in enumerate(self.parts):
+                if part.width != self.surface.w:
+                    raise SceneError(f"parts[{i}].width = {part.width!r}: on a stop zone every part's width is the "
+                                     f"zone's body width w = {self.surface.w!r} (eq. 7: the transition width is "
+                                     f"the body width)")
 
     @property
     def horizon_periods(self) -> int:
@@ -276,6 +319,11 @@ class Scene:
                          "rerun": bool(self.record.rerun)}
         if self.si is not None:
             out["si"] = {"mu": self.si.mu, "g": self.si.g, "L": self.si.L}
+        if self.parts is not None:
+            del out["start"]["x0"], out["start"]["v0"], out["record"]
+            out["parts"] = [{"x0": p.x0, "v0": p.v0, "width": p.width, "mass": p.mass,
+                             "friction_factor": p.friction_factor} for p in self.parts]
+            out["restitution"] = self.restitution
         return out
 
     def replace(self, **changes) -> "Scene":

@@ -24,7 +24,7 @@ from . import records as R
 from .assembly import scene_member, set_friction, trajectory
 from .jit import call, kernel
 from .methods import check_accumulation_tol, check_moreau_work, check_scene, friction_refused, resolve
-from .outcomes import MAX_CYCLE
+from .outcomes import MAX_CYCLE, Reason, Status
 from .results import BatchResult, Trajectory
 from .tables import kernel_row, profile_table
 
@@ -147,6 +147,8 @@ def simulate(scene: Scene, method: str | None = None, **options) -> Trajectory:
         method, options = scene.method, {**scene.solver_options, **options}
     elif method == scene.method:
         options = {**scene.solver_options, **options}
+    if scene.parts is not None:
+        return _simulate_parts(scene, method, options)
     prep = _prepared(scene, method, options)
     cpu0 = time.process_time()
     if method == "ivp":
@@ -165,6 +167,52 @@ def simulate(scene: Scene, method: str | None = None, **options) -> Trajectory:
         call(K.MEMBER_RUNS[prep.code], members, *prep.args, _hist(), *_no_recording())
     return trajectory(scene, method, prep.options, prep.code, prep.row, members[0], prep.origin, arcs, events,
                        samples, time.process_time() - cpu0)
+
+
+#: Reason of an "error" end of the exact solver of several parts, by the start of its message.
+_PARTS_ERRORS = (("max_events", Reason.MAX_EVENTS), ("more than", Reason.STALL))
+
+
+def _simulate_parts(scene: Scene, method: str, given: dict) -> Trajectory:
+    """A scene with several parts through its solver (:mod:`.parts_exact` or :mod:`.parts_moreau`), as a
+    Trajectory whose x_end, v_end have shape (N,)."""
+    from .parts_exact import simulate_parts
+    from .parts_moreau import moreau_parts
+
+    options = check_scene(scene, method, given)
+    dt, n = scene.profile.dt, len(scene.parts)
+    cpu0 = time.process_time()
+    if method == "exact":
+        run = simulate_parts(scene.profile, scene.parts, surface=scene.surface, restitution=scene.restitution,
+                             periods=scene.horizon_periods, max_events=options["max_events"])
+        stats, used = {"events": run.events, "steps": 0}, {"max_events": options["max_events"]}
+        info = {"sticks": run.sticks, "slips": run.slips, "impacts": run.impacts, "openings": run.openings,
+                "breaks": run.breaks}
+        if run.status == "error":
+            reason = next((r for start, r in _PARTS_ERRORS if run.message.startswith(start)), Reason.NONFINITE)
+        else:
+            reason = Reason.REST if run.status == "rest" else (
+                Reason.PERIODS if scene.until == "periods" else Reason.MAX_PERIODS)
+    else:
+        steps, h = moreau.moreau_step(dt, options)
+        run = moreau_parts(scene.profile, scene.parts, surface=scene.surface, restitution=scene.restitution,
+                           periods=scene.horizon_periods, steps_per_period=steps)
+        stats, used, info = {"events": 0, "steps": run.steps}, {"steps_per_period": steps, "h": h}, {
+            "max_overlap": run.max_overlap}
+        reason = Reason.PERIODS
+    period_end = int(round(run.t_end / dt)) if reason is Reason.PERIODS else int(run.t_end // dt)
+    tau_end = 0.0 if reason is Reason.PERIODS else run.t_end - period_end * dt
+    if reason.status is Status.ERROR:
+        text = run.message
+    elif reason is Reason.REST:
+        text = f"{n} parts at rest for good: each sticks where its friction holds it at any table acceleration"
+    else:
+        text = f"simulated {period_end} periods of {n} parts" + (
+            f": {run.impacts} contact closings, {run.openings} openings, {run.sticks} sticks"
+            if method == "exact" else f" (largest overlap {run.max_overlap:.3g})")
+    return Trajectory(x_end=run.x_end, v_end=run.v_end, period_end=period_end, tau_end=tau_end, status=reason.status,
+                      reason=reason, message=text, method=method, options=used,
+                      stats={**stats, "cpu_time": time.process_time() - cpu0}, info=info)
 
 
 def _recorded_run(entry, members, args, steps):

@@ -19,7 +19,7 @@ from ..model.errors import check_choice
 from ..model.friction import StopZone
 from ..model.profiles import FourierProfile, PiecewiseLinearProfile
 from . import records as R
-from .moreau import MAX_STEPS_PER_PERIOD, profile_row
+from .moreau import MAX_STEPS_PER_PERIOD, moreau_step, profile_row
 
 #: Most Moreau steps of one run (periods of the horizon x steps per period), checked before
 #: the run: the scheme has no event budget, so its horizon is its work.  Measured on one core:
@@ -210,12 +210,47 @@ def resolve(method: str, options: dict) -> dict:
             for name, opt in spec.items()}
 
 
+#: The options each method takes for a scene with several parts (the others do nothing there).
+PARTS_OPTIONS = {"exact": ("max_events",), "moreau": ("h", "steps_per_period")}
+
+
+def parts_refused(method: str, scene, given: dict) -> str | None:
+    """Why ``method`` with the options ``given`` cannot simulate the several parts of ``scene``, or None:
+    the exact solver of several parts (:mod:`selfalign.solvers.parts_exact`) takes piecewise-constant
+    profiles on a uniform surface, Moreau's (:mod:`selfalign.solvers.parts_moreau`) any profile and surface
+    for a number of periods, ivp none; options the solver of several parts does not use are refused."""
+    if method not in PARTS_OPTIONS:
+        return f"method {method!r} cannot simulate several parts; use 'exact' or 'moreau'"
+    idle = sorted(set(given) - set(PARTS_OPTIONS[method]))
+    if idle:
+        return (f"option(s) {idle} do nothing for a scene with parts; method {method!r} takes "
+                f"{list(PARTS_OPTIONS[method])} there")
+    if method == "exact" and not getattr(scene.profile, "piecewise_constant", False):
+        return (f"method 'exact' simulates several parts under a piecewise-constant profile (closed-form arcs), got "
+                f"{type(scene.profile).__name__}; use method 'moreau'")
+    if method == "exact" and isinstance(scene.surface, StopZone):
+        return ("method 'exact' simulates several parts on a uniform surface only (the arcs of a cluster on a stop "
+                "zone are not derived yet); use method 'moreau'")
+    if method == "moreau" and scene.until != "periods":
+        return ("method 'moreau' simulates several parts for a number of periods (it has no rest decision for "
+                "them); use horizon periods=N, or method 'exact'")
+    return None
+
+
 def check_scene(scene, method: str | None = None, options: dict | None = None) -> dict:
     """Check that ``method`` (default: the scene's) can simulate ``scene`` with ``options``
     (default: the scene's solver options); return the resolved options.  ValueError with
     the reason otherwise."""
     method = scene.method if method is None else method
-    options = resolve(method, scene.solver_options if options is None else options)
+    given = scene.solver_options if options is None else options
+    options = resolve(method, given)
+    if scene.parts is not None:
+        reason = parts_refused(method, scene, given)
+        if reason:
+            raise ValueError(reason)
+        if method == "moreau":
+            check_moreau_work(moreau_step(scene.profile.dt, options)[0], scene.horizon_periods, "horizon.periods")
+        return options
     reason = METHODS[method].refuses(scene) or friction_refused(method, scene.friction, options)
     if reason:
         raise ValueError(reason)

@@ -1,0 +1,120 @@
+"""Several parts through the public API (docs/explanation/several-parts.md): ``Scene(parts=..., restitution=...)``,
+scene files with ``parts:`` and ``restitution:``, and ``simulate`` returning arrays of shape (N,) from the
+solver of several parts that the method names; a scene that a method cannot simulate is refused when it is
+built or loaded, naming what is wrong."""
+
+import numpy as np
+import pytest
+
+import selfalign as sa
+from selfalign.solvers.parts_exact import simulate_parts
+from selfalign.solvers.parts_moreau import moreau_parts
+
+#: The Fig. 18 profile (Sect. 7.3).
+PROFILE = sa.ThreePhaseProfile(dt=1.05, dy=0.084, y2=2.2, y3=0.9)
+W = 0.05
+PARTS = (sa.Part(0.0, width=W, friction_factor=0.7), sa.Part(0.06, width=W))
+
+
+def test_simulate_runs_the_solver_of_several_parts_the_method_names():
+    """Hypothesis: simulate is a thin door to the solvers of several parts: its x_end, v_end (shape (N,))
+    are bit for bit those of simulate_parts (exact) and moreau_parts (moreau) on the same scene, with the
+    status, the periods and the event counts carried over."""
+    scene = sa.Scene(PROFILE, parts=PARTS, restitution=0.5, periods=6)
+    traj = sa.simulate(scene)
+    direct = simulate_parts(PROFILE, PARTS, restitution=0.5, periods=6)
+    assert traj.x_end.shape == traj.v_end.shape == (2,)
+    assert traj.x_end.tolist() == direct.x_end.tolist() and traj.v_end.tolist() == direct.v_end.tolist()
+    assert (traj.status, traj.reason, traj.period_end, traj.tau_end) == (sa.Status.HORIZON, sa.Reason.PERIODS, 6, 0.0)
+    assert traj.stats["events"] == direct.events and traj.info["impacts"] == direct.impacts >= 5
+    assert "2 parts" in traj.message
+    moreau = sa.simulate(scene, "moreau", steps_per_period=400)
+    direct = moreau_parts(PROFILE, PARTS, restitution=0.5, periods=6, steps_per_period=400)
+    assert moreau.x_end.tolist() == direct.x_end.tolist() and moreau.stats["steps"] == 2400
+    assert moreau.options["h"] == pytest.approx(PROFILE.dt / 400, rel=1e-15)
+    assert moreau.info["max_overlap"] == direct.max_overlap
+
+
+def test_one_part_through_parts_is_the_papers_single_part():
+    """Hypothesis (the invariant of the model: with one part it is eq. 6): a scene with one Part gives the
+    single-part scene's end state to 1e-12 (exact solver, 20 periods)."""
+    traj = sa.simulate(sa.Scene(PROFILE, parts=[sa.Part(0.1, 0.2, width=W)], periods=20))
+    single = sa.simulate(sa.Scene(PROFILE, x0=0.1, v0=0.2, periods=20))
+    assert abs(traj.x_end[0] - single.x_end) <= 1e-12 and abs(traj.v_end[0] - single.v_end) <= 1e-12
+
+
+def test_scene_files_take_parts_and_round_trip():
+    """A scene file's ``parts`` and ``restitution`` build the same scene as the Python API; on a stop zone a
+    part's width defaults to body.width; ``to_dict`` writes a layout that loads back to the same scene (the
+    same layout)."""
+    layout = {"profile": {"kind": "three_phase", "dt": 1.05, "dy": 0.084, "y2": 2.2, "y3": 0.9},
+              "horizon": {"periods": 4}, "restitution": 0.5,
+              "parts": [{"x0": 0.0, "width": W, "friction_factor": 0.7}, {"x0": 0.06, "width": W}]}
+    scene = sa.scene_from_dict(layout)
+    assert scene.to_dict() == sa.Scene(PROFILE, parts=PARTS, restitution=0.5, periods=4).to_dict()
+    assert scene.parts == PARTS
+    assert sa.scene_from_dict(scene.to_dict()).to_dict() == scene.to_dict()
+    zone = sa.scene_from_dict({**layout, "surface": {"kind": "stop_zone", "x_mu": 0.5, "c_mu": 2.5},
+                               "body": {"width": W}, "solver": {"method": "moreau"},
+                               "parts": [{"x0": 0.0}, {"x0": 0.06, "mass": 2.0}]})
+    assert [p.width for p in zone.parts] == [W, W] and zone.parts[1].mass == 2.0
+    assert sa.scene_from_dict(zone.to_dict()).to_dict() == zone.to_dict()
+
+
+@pytest.mark.parametrize("change, words", [
+    ({"x0": 0.1}, "each Part carries its own start"),
+    ({"phase": 0.25}, "starts at phase 0"),
+    ({"parts": []}, "at least one Part"),
+    ({"parts": [sa.Part(0.0, width=W), sa.Part(0.02, width=W)]}, r"parts\[1\] overlaps parts\[0\]"),
+    ({"restitution": 1.5}, r"restitution must be a number in \[0, 1\]"),
+    ({"parts": None, "restitution": 0.5}, "acts between parts"),
+    ({"friction": sa.FrictionLaw("static_kinetic", 1.3)}, "Coulomb friction only"),
+    ({"record": sa.Record(events=True)}, "keeps the end state only"),
+    ({"surface": sa.StopZone(0.5, 0.1, 2.5)}, r"parts\[0\].width = 0.05: on a stop zone"),
+])
+def test_a_scene_with_parts_refuses_what_it_cannot_have(change, words):
+    """Bad input is refused when the scene is built, naming the parameter (and the part) and what is
+    allowed."""
+    with pytest.raises(sa.SceneError, match=words):
+        sa.Scene(**{"profile": PROFILE, "parts": PARTS, "periods": 3, **change})
+
+
+@pytest.mark.parametrize("method, options, surface, words", [
+    ("ivp", {}, sa.Uniform(), "method 'ivp' cannot simulate several parts"),
+    ("exact", {"accumulation_tol": 1e-12}, sa.Uniform(), r"option\(s\) \['accumulation_tol'\] do nothing"),
+    ("moreau", {"iteration": "exact"}, sa.Uniform(), r"option\(s\) \['iteration'\] do nothing"),
+])
+def test_a_method_that_cannot_take_the_parts_refuses_them_before_any_work(method, options, surface, words):
+    """A solver that cannot simulate a scene of several parts refuses it before any work starts, at simulate
+    and when a scene file is loaded."""
+    scene = sa.Scene(PROFILE, surface, parts=PARTS, periods=3)
+    with pytest.raises(ValueError, match=words):
+        sa.simulate(scene, method, **options)
+    layout = {**scene.to_dict(), "solver": {"method": method, "options": options}}
+    with pytest.raises(sa.SceneError, match=words):
+        sa.scene_from_dict(layout)
+
+
+def test_scene_files_refuse_keys_that_do_nothing():
+    """A scene file with ``restitution`` but no parts, or a start x0 beside parts, is refused (it would be
+    ignored); a part without width on a uniform surface is refused naming it."""
+    base = {"profile": {"kind": "three_phase", "dt": 1.05, "dy": 0.084, "y2": 2.2, "y3": 0.9},
+            "horizon": {"periods": 4}}
+    with pytest.raises(sa.SceneError, match="restitution: does nothing without parts"):
+        sa.scene_from_dict({**base, "restitution": 0.5})
+    with pytest.raises(sa.SceneError, match="start.x0, start.v0: do nothing with parts"):
+        sa.scene_from_dict({**base, "start": {"x0": 0.1}, "parts": [{"x0": 0.0, "width": W}]})
+    with pytest.raises(sa.SceneError, match=r"parts\[1\].width is required on a uniform surface"):
+        sa.scene_from_dict({**base, "parts": [{"x0": 0.0, "width": W}, {"x0": 0.1}]})
+    with pytest.raises(sa.SceneError, match="restitution"):
+        sa.scene_from_dict({**base, "parts": [{"x0": 0.0, "width": W}], "restitution": 2})
+
+
+def test_parts_at_rest_end_the_run():
+    """Hypothesis (the rest decision of the exact solver of several parts): parts whose friction factors
+    exceed max|y''| = 2.2 stick for good; with until='rest' the run ends at once with status REST, the parts
+    where they started."""
+    parts = [sa.Part(0.0, width=W, friction_factor=3.0), sa.Part(0.05, width=W, friction_factor=2.5)]
+    traj = sa.simulate(sa.Scene(PROFILE, parts=parts, until="rest", max_periods=10))
+    assert (traj.status, traj.reason) == (sa.Status.REST, sa.Reason.REST)
+    assert traj.x_end.tolist() == [0.0, 0.05] and np.all(traj.v_end == 0.0)
