@@ -2,37 +2,48 @@
 
 N rigid parts on one line on the same table (:mod:`selfalign.model.parts`), the table acceleration y''
 piecewise constant (a :class:`~selfalign.PiecewiseConstantProfile`, such as the three-phase profile of
-Sect. 4.4.3), Coulomb friction (eq. 2 per part) on a uniform surface, unilateral contacts between
-neighbours with Newton's impact law.  The derivation is docs/explanation/several-parts.md.
+Sect. 4.4.3), Coulomb friction (eq. 2 per part) on a uniform surface or the paper's stop zone (eqs. 7-9,
+each part over its own width), unilateral contacts between neighbours with Newton's impact law.  The
+derivation is docs/explanation/several-parts.md.
 
 The state
 ---------
-Positions x_i (fronts), velocities v_i, and which contacts are closed: a cluster is a maximal run of
-touching parts that move together (one velocity, one acceleration).  Between two events every cluster
-moves with a constant acceleration (closed-form quadratics, :func:`selfalign.model.arcs.step`).  Inside a
-cluster the positions are kept exactly adjacent: each part's front is the front of the part behind it
-plus its own width, so no overlap or gap builds up from rounding.
+Positions x_i (fronts; relative to x_mu on a stop zone, as in the single-part solver), velocities v_i,
+and which contacts are closed: a cluster is a maximal run of touching parts that move together (one
+velocity, one acceleration).  Between two events every cluster follows a closed-form arc of
+:mod:`selfalign.model.arcs` (:func:`~selfalign.model.arcs.step`): a quadratic where its friction is
+constant; on a stop zone, while some of its parts lie in their transition, the harmonic (forward) or
+hyperbolic (backward) arc of x'' = a + kappa (x - x_start) with kappa = -+ sum m_j k_j b1_j / sum m_j over
+those parts (eq. 42 pooled; b1_j = (c_mu - 1) / w_j).  Inside a cluster the positions are kept exactly
+adjacent: each part's front is the front of its neighbour plus or minus a width, so no overlap or gap
+builds up from rounding.
 
 The events
 ----------
-Each found exactly as the first positive root of a quadratic in the cancellation-free form
-(:func:`selfalign.model.arcs.first_positive_root`), the earliest one taken:
+The earliest of:
 
 * a profile break (y'' jumps);
-* a cluster's velocity reaching 0 (v + a s = 0, the cluster decelerating);
-* the gap between two neighbouring clusters closing.
+* a cluster's velocity reaching 0 (:func:`~selfalign.model.arcs.zero_velocity_time`);
+* on a stop zone, a part crossing x_mu or x_mu + w_i (:func:`~selfalign.model.arcs.crossing_time`), and a
+  contact force inside a sliding cluster falling to 0 (it is affine in the cluster's displacement, so this
+  is a crossing too);
+* the gap between two neighbouring clusters closing: the first positive root of a quadratic in the
+  cancellation-free form (:func:`~selfalign.model.arcs.first_positive_root`) where both are on quadratic
+  arcs; otherwise conservative advancement on the two arcs (:meth:`_Chain.closing_search`): with the
+  gap's first three derivatives exact and its fourth bounded, the first root of the lower bound is a step
+  that cannot pass a closing, and the steps shrink as Newton's would near one.
 
-At an event every cluster is decided again (:meth:`_Chain.settle`): the contacts that touch (a closed
-contact, a gap that closed at this event, or a gap within :data:`CONTACT_ULPS` ulp of the positions)
-and approach take the simultaneous impact law (:func:`~selfalign.model.parts.impact_velocities`); runs
-of touching parts with one velocity (within :data:`VELOCITY_ULPS` ulp of the velocity scale) are pooled
-into one velocity; each such run gets its accelerations from
-:func:`~selfalign.model.parts.chain_minimiser` (kinetic friction at v != 0, the stick bound at v = 0),
-and splits where they differ (its contacts open).
+At an event the clusters are decided again (:meth:`_Chain.settle`; every one at a break and on a stop
+zone, else those the event touched): the contacts that touch (a closed contact, a gap that closed at this
+event, or a gap within :data:`CONTACT_ULPS` ulp of the positions) and approach take the simultaneous
+impact law (:func:`~selfalign.model.parts.impact_velocities`); runs of touching parts with one velocity
+(within :data:`VELOCITY_ULPS` ulp of the velocity scale) are pooled into one velocity; each such run gets
+its accelerations from :func:`~selfalign.model.parts.chain_minimiser` (kinetic friction at v != 0, the
+stick bound at v = 0), and splits where they differ (its contacts open).
 
 Tie rules
 ---------
-Those of the single-part exact solver (:mod:`selfalign.solvers.engine`), per cluster, and three for the
+Those of the single-part exact solver (:mod:`selfalign.solvers.engine`), per cluster, and more for the
 contacts, so that no zero-length loop can arise:
 
 1. |y''| = k mu_bar counts as stick (:func:`~selfalign.model.parts.chain_minimiser`'s soft threshold).
@@ -48,6 +59,10 @@ contacts, so that no zero-length loop can arise:
    plastic contact once the relative velocity reaches the floor.
 6. Accelerations of neighbours in one velocity run that differ by at most :data:`ACCELERATION_ULPS`
    ulp of the force scale count as equal (the parts stay together, with the mass-weighted mean).
+7. A part that crosses a zone boundary lands on it exactly; a part within the contact tolerance of a
+   boundary belongs to the region it moves into (the single-part solver's rule 5).
+8. A contact inside a sliding cluster whose force is zero (to rounding, or because it fell to zero at this
+   event) and falls as the cluster moves on opens at once; each side gets its own arc.
 
 A run that makes more than :data:`~selfalign.solvers.outcomes.STALL_EVENTS` events of zero length in a
 row, or uses up its event budget, ends with status ``"error"``.
@@ -191,8 +206,10 @@ def simulate_parts(profile, parts, *, surface=None, restitution=0.0, periods, ma
     parts : sequence of Part
         The parts (:class:`~selfalign.model.parts.Part`), the rear-most first, not overlapping; their x0,
         v0 hold at time 0.
-    surface : Uniform or None, optional
-        The friction field: uniform (mu_bar = 1), the default.  A StopZone is refused (not supported yet).
+    surface : Uniform, StopZone or None, optional
+        The friction field: uniform (mu_bar = 1, the default) or the paper's stop zone, whose ``x_mu`` and
+        ``c_mu`` it uses (each part's transition spans its own width, eqs. 7-9; the zone's ``w`` is not
+        used).
     restitution : float, optional
         Newton's coefficient of restitution e in [0, 1] of the contacts between parts.  Default 0
         (plastic).
@@ -209,11 +226,12 @@ def simulate_parts(profile, parts, *, surface=None, restitution=0.0, periods, ma
     Raises
     ------
     TypeError
-        If ``profile`` is not a PiecewiseConstantProfile, ``surface`` not Uniform or None, ``parts`` not a
-        sequence of Part, ``restitution`` not a real number, or ``periods`` or ``max_events`` not an integer.
+        If ``profile`` is not a PiecewiseConstantProfile, ``surface`` not Uniform, StopZone or None, ``parts``
+        not a sequence of Part, ``restitution`` not a real number, or ``periods`` or ``max_events`` not an
+        integer.
     ValueError
-        If ``parts`` is empty or two parts overlap (naming them), ``restitution`` lies outside [0, 1],
-        ``periods`` or ``max_events`` is < 1, or ``surface`` is a StopZone.
+        If ``parts`` is empty or two parts overlap (naming them), ``restitution`` lies outside [0, 1], or
+        ``periods`` or ``max_events`` is < 1.
 
     Examples
     --------
@@ -229,6 +247,15 @@ def simulate_parts(profile, parts, *, surface=None, restitution=0.0, periods, ma
     ('horizon', 0.05)
     >>> result.openings, result.impacts
     (0, 0)
+
+    The same pair pushed into a stop zone comes to rest where the mean of their friction coefficients reaches
+    max|y''| = 2.2: the front part on the high-friction side (2.5), the rear one at mu_bar = 1.9, 0.6 of its
+    width into its transition.
+
+    >>> zone = sa.StopZone(x_mu=0.15, w=0.05, c_mu=2.5)
+    >>> pair = simulate_parts(profile, [Part(-0.05, width=0.05), Part(0.0, width=0.05)], surface=zone, periods=60)
+    >>> [round(float(x), 12) for x in pair.x_end]
+    [0.18, 0.23]
     """
     profile = _check_profile(profile)
     parts = check_parts(parts)
