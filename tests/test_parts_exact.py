@@ -275,19 +275,49 @@ def test_parts_far_apart_on_a_stop_zone_each_feel_their_own_width():
         assert abs(result.x_end[i] - reference.x_end) <= TOL and abs(result.v_end[i] - reference.v_end) <= TOL
 
 
-@pytest.mark.parametrize("c_mu", [2.5, 3.0])
-def test_a_pushed_pair_accumulates_where_its_pooled_friction_holds(c_mu, gaps):
-    """Hypothesis: two equal touching parts pushed into a stop zone by the Fig. 18 profile (forward slips only)
-    move as one cluster whose friction is the mean of their mu_bar (chain_minimiser's pooling); they come to
-    rest for good where that mean reaches max|y''| = y2'' (the two-part analogue of x_stick_min, eq. 41): with
-    the front part on the high-friction side, the rear one's front at x_mu + w (2 y2'' - c_mu - 1) / (c_mu - 1).
-    They approach it as the single part approaches x_stick_min (Sect. 7.3) and reach it to rounding within 60
-    periods (1e-12); no contact opens and no gap goes below 0 beyond a few ulp."""
+@pytest.mark.parametrize("c_mu, k_rear, k_front", [(2.5, 1.0, 1.0), (3.0, 1.0, 1.0), (2.5, 1.2, 1.0), (2.5, 1.5, 1.0)])
+def test_a_pushed_pair_accumulates_where_its_pooled_friction_holds(c_mu, k_rear, k_front, gaps):
+    """Hypothesis: two touching parts of equal mass pushed into a stop zone by the Fig. 18 profile (forward
+    slips only) move as one cluster whose friction is the mean of their k mu_bar (chain_minimiser's pooling);
+    they come to rest for good where that mean reaches max|y''| = y2'' (the two-part analogue of x_stick_min,
+    eq. 41): with the front part on the high-friction side, where the rear one's k mu_bar is 2 y2'' - k_f c_mu,
+    i.e. its front at x_mu + w ((2 y2'' - k_f c_mu) / k_r - 1) / (c_mu - 1).  A rear part of higher factor
+    first falls behind (the contact opens at the first push) and catches up once the front one brakes in the
+    zone.  They approach the rest position stick by stick, as the single part approaches x_stick_min
+    (Sect. 7.3), and reach it to rounding within 60 periods (1e-12); no gap goes below 0 beyond a few ulp."""
     zone = sa.StopZone(0.15, W, c_mu)
-    result = simulate_parts(FIG18, [Part(-W, width=W), Part(0.0, width=W)], surface=zone, periods=60)
-    rest = 0.15 + W * (2.0 * FIG18.y2 - c_mu - 1.0) / (c_mu - 1.0)
+    parts = [Part(-W, width=W, friction_factor=k_rear), Part(0.0, width=W, friction_factor=k_front)]
+    result = simulate_parts(FIG18, parts, surface=zone, periods=60)
+    rest = 0.15 + W * ((2.0 * FIG18.y2 - k_front * c_mu) / k_rear - 1.0) / (c_mu - 1.0)
     assert abs(result.x_end[0] - rest) <= TOL and abs(result.x_end[1] - (rest + W)) <= TOL
-    assert result.openings == 0 and np.all(result.v_end == 0.0)
+    assert result.openings == (0 if k_rear == k_front else 1) and np.all(result.v_end == 0.0)
+    assert min(gaps) >= -8 * np.finfo(float).eps
+
+
+def test_a_sliding_pair_separates_where_its_contact_force_vanishes(monkeypatch, gaps):
+    """Hypothesis: inside a sliding cluster of two equal masses the contact force is lam = m (b_r - b_f) / 2
+    with b_i = -y'' - k_i mu_bar_i (chain_minimiser's pooling, docs/explanation/several-parts.md); it is affine
+    in the displacement in the zone and falls to zero exactly where k_r mu_bar_r = k_f mu_bar_f.  A pair of
+    factors (0.8, 0.7) pushed by the Fig. 18 profile into StopZone(0.1, 0.05, 2) slides together with the front
+    part on the high-friction side (0.7 c_mu = 1.4) until the rear part's mu_bar reaches 1.75, its front at
+    x_mu + 0.75 w: there the contact opens, at one velocity and one acceleration (to 1e-12), and the parts
+    never overlap."""
+    opened = []
+    settle = PE._Chain.settle
+
+    def watched(self, ay, closes=(), opens=(), count=True, everything=False):
+        joined = self.joined.copy()
+        settle(self, ay, closes, opens, count, everything)
+        opened.extend((self.x + self.origin, self.v.copy(), self.a.copy()) for i in opens
+                      if joined[i] and not self.joined[i])
+
+    monkeypatch.setattr(PE._Chain, "settle", watched)
+    parts = [Part(-0.05, width=0.05, friction_factor=0.8), Part(0.0, width=0.05, friction_factor=0.7)]
+    result = simulate_parts(FIG18, parts, surface=sa.StopZone(0.1, 0.05, 2.0), periods=12)
+    assert opened and result.openings >= len(opened)
+    x, v, a = opened[0]
+    assert abs(x[0] - (0.1 + 0.75 * 0.05)) <= TOL and abs(x[1] - x[0] - 0.05) <= TOL
+    assert v[0] == v[1] > 0.0 and abs(a[1] - a[0]) <= TOL
     assert min(gaps) >= -8 * np.finfo(float).eps
 
 
