@@ -182,6 +182,18 @@ def test_newtons_cradle_takes_the_simultaneous_impact_law(e, after):
     assert np.all(np.abs(result.v_end - expected) <= TOL)
 
 
+@pytest.mark.parametrize("e, expected", [(0.0, [0.3, 0.3]), (1.0, [0.0, 0.8])])
+def test_parts_that_start_touching_and_approaching_collide_at_once(e, expected):
+    """Hypothesis: parts given touching with the rear one faster collide at time 0 (the impact law applies to
+    the start state, and the impact counts): two equal parts at (1, 0) leave at (1/2, 1/2) for e = 0 and
+    exchange their velocities for e = 1; under y'' = 0 a sliding part then decelerates by 1 and one at rest
+    stays stuck, so at t = 0.2 the velocities are (0.3, 0.3) and (0, 0.8) (to 1e-12)."""
+    flat = sa.PiecewiseConstantProfile([0.0, 0.2], [0.0], 0.0, 0.0)
+    result = simulate_parts(flat, [Part(0.0, 1.0, width=W), Part(W, width=W)], restitution=e, periods=1)
+    assert result.impacts == 1
+    assert np.all(np.abs(result.v_end - expected) <= TOL)
+
+
 def test_a_part_that_stops_exactly_at_its_neighbour_grazes_it():
     """Hypothesis: a part sliding at v = 1 under y'' = 0 stops after 1 at x = 0.5 (eq. 21), exactly where a
     part at rest begins: the gap closes with zero relative velocity at the moment v = 0 (tie rules 2, 4),
@@ -305,9 +317,9 @@ def test_a_sliding_pair_separates_where_its_contact_force_vanishes(monkeypatch, 
     opened = []
     settle = PE._Chain.settle
 
-    def watched(self, ay, closes=(), opens=(), count=True, everything=False):
+    def watched(self, ay, closes=(), opens=(), start=False, everything=False):
         joined = self.joined.copy()
-        settle(self, ay, closes, opens, count, everything)
+        settle(self, ay, closes, opens, start, everything)
         opened.extend((self.x + self.origin, self.v.copy(), self.a.copy()) for i in opens
                       if joined[i] and not self.joined[i])
 

@@ -483,11 +483,12 @@ class _Chain:
             self.a[first:last + 1] = acc + self.kappa[first] * dx
 
     # -- at an event --------------------------------------------------------------------------------------
-    def settle(self, ay: float, closes=(), opens=(), count: bool = True, everything: bool = False) -> None:
+    def settle(self, ay: float, closes=(), opens=(), start: bool = False, everything: bool = False) -> None:
         """Decide the contacts, impacts, clusters and accelerations at the current state under y'' = ay: every
         cluster (``everything``, at a break, and at every event on a stop zone, where the friction depends on
         the positions) or those an event touched (the others keep their accelerations, which a new decision
-        would give again).  ``opens``: contacts whose force fell to zero at this event."""
+        would give again).  ``opens``: contacts whose force fell to zero at this event; ``start``: the state at
+        time 0, whose stick and slip modes are no events (its impacts are)."""
         n, v, m, dirty = self.n, self.v, self.m, self.dirty
         self.ay = ay
         if everything or self.zone:
@@ -497,7 +498,7 @@ class _Chain:
             if not touching[i] and (i in closes or self.gap(i) <= self.contact_tolerance(i)):
                 touching[i] = True
                 dirty[i:i + 2] = True
-                if count and (i in closes or v[i] > v[i + 1]):
+                if i in closes or v[i] > v[i + 1]:
                     self.impacts += 1
         for first, last in self.runs(touching):
             if last > first and np.any(v[first:last] - v[first + 1:last + 1] > self.v_floor):
@@ -525,14 +526,14 @@ class _Chain:
                 if self.zone and last > first and self.sigma[first] != 0:
                     self.split(first, last, opens)
         for i in range(n - 1):
-            if was_joined[i] and not self.joined[i] and count:
+            if was_joined[i] and not self.joined[i]:
                 self.openings += 1
         for first, last in self.runs(self.joined):
             if not dirty[first]:
                 continue
             cluster = slice(first, last + 1)
             self.place(first, last, first)                          # touching parts exactly adjacent
-            if v[first] == 0.0 and np.any(old_sigma[cluster] != self.sigma[first]) and count:
+            if v[first] == 0.0 and np.any(old_sigma[cluster] != self.sigma[first]) and not start:
                 if self.sigma[first] == 0:
                     self.sticks += 1
                 else:
@@ -606,7 +607,7 @@ class _Chain:
         breaks, accels, dt = profile.breaks, profile.accels, profile.dt
         pieces = accels.size
         stalled = 0
-        self.settle(float(accels[0]), count=False, everything=True)
+        self.settle(float(accels[0]), start=True, everything=True)
         for period in range(periods):
             for p in range(pieces):
                 ay = float(accels[p])
