@@ -50,8 +50,8 @@ def assert_pixels_match(repo, fig, name, tmp_path, dpi):
     rms = compare_pixels(fresh, committed, tol=PIXEL_TOL)
     assert rms is None, f"figures/{name}.png differs from the current drawing: RMS {rms}"
 
-def assert_data_matches(repo, fig, name, update, dpi=None):
-    """The plotted data of ``fig`` equal tests/figure_refs/<name>.json (rtol RTOL, atol ATOL).
+def assert_data_matches(repo, fig, name, update, dpi=None, rtol=RTOL):
+    """The plotted data of ``fig`` equal tests/figure_refs/<name>.json (rtol ``rtol``, default RTOL; atol ATOL).
 
     With ``--update-figure-refs`` (``update``) the reference is rewritten instead, and so is
     figures/<name>.png when ``dpi`` is given (figures whose committed PNG is drawn here)."""
@@ -62,7 +62,7 @@ def assert_data_matches(repo, fig, name, update, dpi=None):
         if dpi is not None:
             save_figure(fig, repo / f"figures/{name}.png", dpi=dpi)
         pytest.skip("figure references rewritten")
-    diffs = compare_figure_data(data, load_reference(ref_path), rtol=RTOL, atol=ATOL)
+    diffs = compare_figure_data(data, load_reference(ref_path), rtol=rtol, atol=ATOL)
     assert not diffs, "\n".join(diffs[:20])
 
 

@@ -191,6 +191,10 @@ def test_part_checks_name_what_is_wrong():
     with pytest.raises(ValueError, match=r"parts\[2\] overlaps parts\[1\]"):
         check_parts([Part(0.0, width=1.0), Part(1.0, width=1.0), Part(1.5, width=1.0)])
     assert len(check_parts([Part(0.0, width=1.0), Part(1.0, width=1.0)])) == 2
+    # Touching parts at computed positions overlap by rounding only (0.6 against 0.6000000000000001).
+    assert len(check_parts([Part(i * 0.05, width=0.05) for i in range(14)])) == 14
+    with pytest.raises(ValueError, match=r"parts\[1\] overlaps parts\[0\]"):
+        check_parts([Part(0.6, width=0.05), Part(0.65 - 1e-12, width=0.05)])
     for bad in (-0.1, 1.01, math.nan):
         with pytest.raises(ValueError, match="restitution"):
             check_restitution(bad)

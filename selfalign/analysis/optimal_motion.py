@@ -85,6 +85,16 @@ STRETCH = (0.3, 0.6)
 BINDING = 1e-6
 #: Agreement required between the exact solver's mean velocity and the closed form of the motion.
 CLOSED_FORM_RTOL = 1e-9
+#: Candidate motions whose mean velocities lie within this fraction of the fastest are taken as equally fast,
+#: and the simplest of them is returned (fewest different sub-cycles, then fewest arcs).  Under a speed and a
+#: stroke limit the optimum can be degenerate: at Fig. 6's limits three motions of three sub-cycles lie within
+#: 4e-9 of each other, and which one the polish ranks first depends on the BLAS kernel and its threads.  The
+#: polish itself moves v-bar by ~1e-9 between kernels; ties are decided well above that and well below the
+#: 1e-6 to which the general searches confirm the optimum.
+TIE_RTOL = 1e-8
+#: A level of y'' within this fraction of +-a or +-r of a bound or of 0 is named as there in ``family``: the
+#: polish places a coast at 0 only to ~1e-8 a (at Fig. 6's limits -8e-9 a on one BLAS kernel, 0 on another).
+LEVEL_RTOL = 1e-6
 #: A period range beyond the longest period the fastest motion fits: periods scanned per octave, at most in
 #: all, and the bounded scalar search around the best (relative tolerance, evaluations).
 PERIOD_SCAN, PERIOD_POINTS = 4, 16
@@ -318,14 +328,21 @@ def _family(arcs: Arcs, a: float, r: float) -> str:
     """The ``family`` name of OptimalProfile: the names of the arcs of each sub-cycle (a slide and the stick
     after it), joined by "-"; "name x k" when all k sub-cycles have one name, else the names joined by
     " | "."""
+    cycles = _cycle_names(arcs, a, r)
+    return cycles[0] + (f" x {len(cycles)}" if len(cycles) > 1 else "") if len(set(cycles)) == 1 else " | ".join(cycles)
+
+
+def _cycle_names(arcs: Arcs, a: float, r: float) -> list[str]:
+    """The name of each sub-cycle of ``arcs``: the names of its arcs joined by "-" (a sliding arc at +-a is
+    a bang, at 0 a coast, else a ramp; a stick arc at +-r a stick, at 0 a dwell, else a hold; "at" to
+    :data:`LEVEL_RTOL` of +-a or +-r)."""
     words = []
     for level, slide in zip(arcs.levels.tolist(), arcs.sliding.tolist()):
         top, names = (a, ("bang", "coast", "ramp")) if slide else (r, ("stick", "dwell", "hold"))
-        near = 1e-9 * top
+        near = LEVEL_RTOL * top
         words.append(names[0] if abs(abs(level) - top) <= near else names[1] if abs(level) <= near else names[2])
     starts = [first for first, _ in arcs.slides()] + [arcs.levels.size]
-    cycles = ["-".join(words[i:j]) for i, j in zip(starts, starts[1:])]
-    return cycles[0] + (f" x {len(cycles)}" if len(cycles) > 1 else "") if len(set(cycles)) == 1 else " | ".join(cycles)
+    return ["-".join(words[i:j]) for i, j in zip(starts, starts[1:])]
 
 
 @dataclass(frozen=True)
@@ -668,17 +685,23 @@ def polish(arcs: Arcs, a: float, r: float, velocity_max: float | None, stroke_ma
     Then :func:`_tidy_stick` writes the sticks in their canonical form.  None if SLSQP ends elsewhere than at
     a point meeting the limits."""
     period = float(np.sum(arcs.durations))
-    first = _clean(_slsqp(arcs, a, r, velocity_max, stroke_max, margin, slack), a, r, 1e-6, 1e-6)
+
+    def cleaned(start, times):
+        return _clean(_slsqp(start, a, r, velocity_max, stroke_max, margin, times * slack), a, r, 1e-6, 1e-6)
+    first = cleaned(arcs, 1.0)
     if first is None:
         return None
     for times in RETRY_SLACK:                     # SLSQP may end a little outside a constraint
-        second = _clean(_slsqp(first, a, r, velocity_max, stroke_max, margin, times * slack), a, r, 1e-12, 0.0)
-        if second is None:
-            continue
-        exact = Arcs(second.levels, _solved_durations(second, _dependent(second), period, margin), second.sliding)
-        if (np.all(exact.durations >= 0.0) and _meets(exact, velocity_max, stroke_max)
-                and np.all(exact.quantities()[3][exact.sliding] > 0.0)):
-            return _tidy_stick(exact, r, velocity_max, stroke_max).merged()
+        # and stay there when restarted from that point: then a restart from the grid solution moves
+        for start in (first, cleaned(arcs, times) if times > 1.0 else None):
+            second = None if start is None else _clean(
+                _slsqp(start, a, r, velocity_max, stroke_max, margin, times * slack), a, r, 1e-12, 0.0)
+            if second is None:
+                continue
+            exact = Arcs(second.levels, _solved_durations(second, _dependent(second), period, margin), second.sliding)
+            if (np.all(exact.durations >= 0.0) and _meets(exact, velocity_max, stroke_max)
+                    and np.all(exact.quantities()[3][exact.sliding] > 0.0)):
+                return _tidy_stick(exact, r, velocity_max, stroke_max).merged()
     return None
 
 
@@ -1009,7 +1032,8 @@ def _fits(built, velocity_max: float | None, stroke_max: float | None) -> bool:
 def _choose(candidates, period, a, r, law, velocity_max, stroke_max) -> OptimalProfile:
     """The fastest of the candidate motions (arcs of period 1) scaled to ``period``, by the exact solver:
     each must meet the limits exactly and move the part as the closed form of its slides says
-    (int x' dt, to :data:`CLOSED_FORM_RTOL`); the fastest motion's copies always do."""
+    (int x' dt, to :data:`CLOSED_FORM_RTOL`); the fastest motion's copies always do.  Of the motions within
+    :data:`TIE_RTOL` of the fastest, the simplest is returned."""
     built = [(arcs, _built(arcs, period)) for arcs in candidates]
     built = [b for b in built if _fits(b[1], velocity_max, stroke_max)]
     profiles = [PiecewiseConstantProfile(*b[1][:4]) for b in built]
@@ -1019,7 +1043,9 @@ def _choose(candidates, period, a, r, law, velocity_max, stroke_max) -> OptimalP
     if not agree:
         raise RuntimeError(f"the exact solver's mean velocities {vbars.tolist()} disagree with the closed forms "
                            f"{closed} of the motions found for period = {period!r}, accel_max = {a!r}, r = {r!r}")
-    i = max(agree, key=lambda i: vbars[i])
+    fastest = max(vbars[i] for i in agree)
+    tied = [i for i in agree if vbars[i] >= fastest * (1.0 - TIE_RTOL)]
+    i = min(tied, key=lambda i: (len(set(_cycle_names(built[i][0], a, r))), built[i][0].levels.size, -vbars[i]))
     arcs, (_, _, _, _, speed, stroke) = built[i]
     used = {"accel_max": True, "velocity_max": velocity_max is not None and speed >= velocity_max * (1.0 - BINDING),
             "stroke_max": stroke_max is not None and stroke >= stroke_max * (1.0 - BINDING)}

@@ -23,12 +23,15 @@ violators (each pooled block's exact one-dimensional minimiser), not iterated to
 from __future__ import annotations
 
 import math
+import sys
 from collections.abc import Sequence
 from dataclasses import KW_ONLY, dataclass
 
 from .errors import check_finite, check_positive, check_real
 from .registry import formula
 
+#: Touching parts may overlap by this many ulp of their positions and widths (rounding of computed positions).
+OVERLAP_ULPS = 4
 #: Rows of the scratch array :func:`chain_minimiser` needs (shape (CHAIN_WORK_ROWS, N)).
 CHAIN_WORK_ROWS = 6
 #: Rows of the scratch array :func:`impact_velocities` needs (shape (IMPACT_WORK_ROWS, N)).
@@ -97,7 +100,9 @@ def check_parts(parts) -> tuple[Part, ...]:
     ----------
     parts : sequence of Part
         The parts, the rear-most first: part i + 1's rear x0 - width must not lie behind part i's front x0
-        (touching, a gap of exactly 0, is allowed).
+        by more than rounding (:data:`OVERLAP_ULPS`): touching parts are allowed, also where their positions
+        were computed (``Part(13 * 0.05, width=0.05)`` behind ``Part(12 * 0.05, width=0.05)``: 0.6 against
+        0.6000000000000001).  The solvers treat such an overlap as touching.
 
     Returns
     -------
@@ -129,7 +134,9 @@ def check_parts(parts) -> tuple[Part, ...]:
             raise TypeError(f"parts[{i}] must be a Part, got {type(part).__name__}")
     for i in range(len(parts) - 1):
         rear = parts[i + 1].x0 - parts[i + 1].width
-        if rear < parts[i].x0:
+        rounding = OVERLAP_ULPS * sys.float_info.epsilon * max(abs(parts[i].x0), abs(parts[i + 1].x0),
+                                                               parts[i + 1].width)
+        if rear < parts[i].x0 - rounding:
             raise ValueError(f"parts[{i + 1}] overlaps parts[{i}]: its rear x0 - width = {rear:g} lies behind the "
                              f"front x0 = {parts[i].x0:g} of parts[{i}] (parts are listed rear to front and may "
                              f"touch, not overlap)")
