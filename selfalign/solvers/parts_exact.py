@@ -63,6 +63,10 @@ contacts, so that no zero-length loop can arise:
    boundary belongs to the region it moves into (the single-part solver's rule 5).
 8. A contact inside a sliding cluster whose force is zero (to rounding, or because it fell to zero at this
    event) and falls as the cluster moves on opens at once; each side gets its own arc.
+9. The impact law acts on the touching contacts that do not separate (relative velocity at most the floor
+   of rule 5): a touching pair already moving apart is open, and if the impact drives it together again it
+   closes at once, as a new event (a zero-length step), so that impacts through parts that separate follow
+   one another, as Moreau's rule (a contact is active where its gap at the step's midpoint is <= 0) has it.
 
 A run that makes more than :data:`~selfalign.solvers.outcomes.STALL_EVENTS` events of zero length in a
 row, or uses up its event budget, ends with status ``"error"``.
@@ -500,10 +504,11 @@ class _Chain:
                 dirty[i:i + 2] = True
                 if i in closes or v[i] > v[i + 1]:
                     self.impacts += 1
-        for first, last in self.runs(touching):
+        closed = touching & (v[1:] - v[:-1] <= self.v_floor)     # tie rule 9: separating contacts are open
+        for first, last in self.runs(closed):
             if last > first and np.any(v[first:last] - v[first + 1:last + 1] > self.v_floor):
                 out = self.out[first:last + 1]
-                impact_velocities(v[first:last + 1], m[first:last + 1], self.e, touching[first:last], out,
+                impact_velocities(v[first:last + 1], m[first:last + 1], self.e, closed[first:last], out,
                                   self.work[:IMPACT_WORK_ROWS, first:last + 1])
                 v[first:last + 1] = out
                 dirty[first:last + 1] = True
