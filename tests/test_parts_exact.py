@@ -317,9 +317,9 @@ def test_a_sliding_pair_separates_where_its_contact_force_vanishes(monkeypatch, 
     opened = []
     settle = PE._Chain.settle
 
-    def watched(self, ay, closes=(), opens=(), start=False, everything=False):
+    def watched(self, ay, closes=(), opens=(), **flags):
         joined = self.joined.copy()
-        settle(self, ay, closes, opens, start, everything)
+        settle(self, ay, closes, opens, **flags)
         opened.extend((self.x + self.origin, self.v.copy(), self.a.copy()) for i in opens
                       if joined[i] and not self.joined[i])
 

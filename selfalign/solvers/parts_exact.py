@@ -67,6 +67,9 @@ contacts, so that no zero-length loop can arise:
    of rule 5): a touching pair already moving apart is open, and if the impact drives it together again it
    closes at once, as a new event (a zero-length step), so that impacts through parts that separate follow
    one another, as Moreau's rule (a contact is active where its gap at the step's midpoint is <= 0) has it.
+   At that second impact, at the same time as the first, the law acts on every touching contact: the rest
+   of the cascade is resolved at once, simultaneously (pairwise impacts one after the other could go on
+   without end in a touching chain).
 
 A run that makes more than :data:`~selfalign.solvers.outcomes.STALL_EVENTS` events of zero length in a
 row, or uses up its event budget, ends with status ``"error"``.
@@ -487,12 +490,14 @@ class _Chain:
             self.a[first:last + 1] = acc + self.kappa[first] * dx
 
     # -- at an event --------------------------------------------------------------------------------------
-    def settle(self, ay: float, closes=(), opens=(), start: bool = False, everything: bool = False) -> None:
+    def settle(self, ay: float, closes=(), opens=(), start: bool = False, everything: bool = False,
+               instant: bool = False) -> None:
         """Decide the contacts, impacts, clusters and accelerations at the current state under y'' = ay: every
         cluster (``everything``, at a break, and at every event on a stop zone, where the friction depends on
         the positions) or those an event touched (the others keep their accelerations, which a new decision
         would give again).  ``opens``: contacts whose force fell to zero at this event; ``start``: the state at
-        time 0, whose stick and slip modes are no events (its impacts are)."""
+        time 0, whose stick and slip modes are no events (its impacts are); ``instant``: the event follows the
+        one before it at the same time (tie rule 9)."""
         n, v, m, dirty = self.n, self.v, self.m, self.dirty
         self.ay = ay
         if everything or self.zone:
@@ -504,7 +509,7 @@ class _Chain:
                 dirty[i:i + 2] = True
                 if i in closes or v[i] > v[i + 1]:
                     self.impacts += 1
-        closed = touching & (v[1:] - v[:-1] <= self.v_floor)     # tie rule 9: separating contacts are open
+        closed = touching if instant else touching & (v[1:] - v[:-1] <= self.v_floor)     # tie rule 9
         for first, last in self.runs(closed):
             if last > first and np.any(v[first:last] - v[first + 1:last + 1] > self.v_floor):
                 out = self.out[first:last + 1]
@@ -638,7 +643,7 @@ class _Chain:
                         return self.result(period * dt + breaks[p] + s0, "error",
                                            f"more than {STALL_EVENTS} events of zero length in a row at t = "
                                            f"{period * dt + breaks[p] + s0!r}")
-                    self.settle(ay, closes, opens)
+                    self.settle(ay, closes, opens, instant=s == 0.0)
         return self.result(periods * dt, "horizon")
 
     def events(self) -> int:
