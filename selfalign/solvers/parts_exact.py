@@ -413,14 +413,18 @@ class _Chain:
         dx, vel1 = A.step(int(self.kind[j]), self.omega[j], vel, acc, s)
         return dx, vel1, acc + kap * dx, kap * vel1
 
-    def acceleration_bound(self, j: int, horizon: float) -> float:
-        """A bound on |x''''| = |kappa x''| of part j's cluster over the next ``horizon``."""
-        kind, om, vel, acc = int(self.kind[j]), self.omega[j], self.v[j], self.a[j]
+    def acceleration_bound(self, j: int, state, window: float) -> float:
+        """A bound on |x''''| = |kappa x''| of part j's cluster over a ``window`` of time from the point of its
+        arc where (displacement, velocity, acceleration, jerk) is ``state`` (:meth:`arc_state`): on a harmonic
+        arc x'' oscillates with the amplitude hypot(x'', omega x'), on a hyperbolic one it grows at most by
+        cosh and sinh of omega times the window."""
+        kind, om = int(self.kind[j]), self.omega[j]
         if self.sigma[j] == 0 or kind == A.QUADRATIC:
             return 0.0
+        _, vel, acc, _ = state
         if kind == A.HARMONIC:
             return om * om * math.hypot(acc, om * vel)
-        return om * om * (abs(acc) * math.cosh(om * horizon) + om * abs(vel) * math.sinh(om * horizon))
+        return om * om * (abs(acc) * math.cosh(om * window) + om * abs(vel) * math.sinh(om * window))
 
     def closing_time(self, i: int, horizon: float):
         """(s, closes) of the open contact i: the first s > 0 at which it closes (0 if it touches and
@@ -441,8 +445,10 @@ class _Chain:
         """Conservative advancement on the closed-form arcs of the two clusters: with the gap's first three
         derivatives exact and |g''''| <= q, the gap stays above g + g' s + g'' s^2 / 2 + g''' s^3 / 6 - q s^4 / 24
         (its negative terms only), whose first root is a safe step; near a closing the steps shrink as
-        Newton's would."""
-        q = self.acceleration_bound(i, horizon) + self.acceleration_bound(i + 1, horizon)
+        Newton's would.  The search looks at most 1 / omega ahead at a time (the bound of a hyperbolic arc
+        grows as exp(omega s)) and goes on to ``horizon``."""
+        omega = max(self.omega[i], self.omega[i + 1])
+        reach = 1.0 / omega if omega > 0.0 else math.inf
         s = 0.0
         coef = [g, 0.0, 0.0, 0.0]
         for _ in range(SEARCH_STEPS):
@@ -465,9 +471,13 @@ class _Chain:
                     if lead == 0.0:
                         return math.inf, True
             p = next(p for p, c in enumerate(coef) if c > 0.0)
-            step = _safe_step(coef, p, q / 24.0, horizon - s)
+            window = min(horizon - s, reach)
+            q = self.acceleration_bound(i, rear, window) + self.acceleration_bound(i + 1, front, window)
+            step = _safe_step(coef, p, q / 24.0, window)
             if step == math.inf:
-                return math.inf, True
+                if window >= horizon - s:
+                    return math.inf, True
+                step = window
             s += step
         return s, False
 
