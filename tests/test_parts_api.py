@@ -116,5 +116,24 @@ def test_parts_at_rest_end_the_run():
     where they started."""
     parts = [sa.Part(0.0, width=W, friction_factor=3.0), sa.Part(0.05, width=W, friction_factor=2.5)]
     traj = sa.simulate(sa.Scene(PROFILE, parts=parts, until="rest", max_periods=10))
-    assert (traj.status, traj.reason) == (sa.Status.REST, sa.Reason.REST)
+    assert (traj.status, traj.reason, traj.period_end) == (sa.Status.REST, sa.Reason.REST, 0)
     assert traj.x_end.tolist() == [0.0, 0.05] and np.all(traj.v_end == 0.0)
+    # A fixed horizon is simulated whole: at rest for good, nothing moves after the rest decision.
+    traj = sa.simulate(sa.Scene(PROFILE, parts=parts, periods=10))
+    assert (traj.status, traj.reason, traj.period_end) == (sa.Status.HORIZON, sa.Reason.PERIODS, 10)
+    assert traj.x_end.tolist() == [0.0, 0.05]
+
+
+def test_a_pushed_pair_comes_to_rest_in_the_stop_zone_through_simulate():
+    """Hypothesis (docs, "Accuracy and speed": the two-part analogue of eq. 41): two equal parts pushed into
+    a stop zone (c_mu = 2.5) by the Fig. 18 profile end at rest where the mean of their coefficients reaches
+    y2'' = 2.2, the rear part 0.6 w into its transition, the exact solver deciding rest for good there (the
+    pooled stick bound); Moreau's scheme ends there to its first-order error at dt/2000."""
+    zone = sa.StopZone(0.5, W, 2.5)
+    pair = [sa.Part(0.35, width=W), sa.Part(0.40, width=W)]
+    exact = sa.simulate(sa.Scene(PROFILE, zone, parts=pair, until="rest", max_periods=400))
+    assert exact.status is sa.Status.REST
+    assert exact.x_end[0] == pytest.approx(0.5 + 0.6 * W, abs=1e-12)
+    moreau = sa.simulate(sa.Scene(PROFILE, zone, parts=pair, periods=exact.period_end + 1, method="moreau",
+                                  solver_options={"steps_per_period": 2000}))
+    assert np.max(np.abs(moreau.x_end - exact.x_end)) < 1e-3

@@ -190,9 +190,10 @@ def _simulate_parts(scene: Scene, method: str, given: dict) -> Trajectory:
                 "breaks": run.breaks}
         if run.status == "error":
             reason = next((r for start, r in _PARTS_ERRORS if run.message.startswith(start)), Reason.NONFINITE)
+        elif scene.until == "periods":      # at rest for good before the horizon: nothing moves after it
+            reason = Reason.PERIODS
         else:
-            reason = Reason.REST if run.status == "rest" else (
-                Reason.PERIODS if scene.until == "periods" else Reason.MAX_PERIODS)
+            reason = Reason.REST if run.status == "rest" else Reason.MAX_PERIODS
     else:
         steps, h = moreau.moreau_step(dt, options)
         run = moreau_parts(scene.profile, scene.parts, surface=scene.surface, restitution=scene.restitution,
@@ -200,12 +201,16 @@ def _simulate_parts(scene: Scene, method: str, given: dict) -> Trajectory:
         stats, used, info = {"events": 0, "steps": run.steps}, {"steps_per_period": steps, "h": h}, {
             "max_overlap": run.max_overlap}
         reason = Reason.PERIODS
-    period_end = int(round(run.t_end / dt)) if reason is Reason.PERIODS else int(run.t_end // dt)
-    tau_end = 0.0 if reason is Reason.PERIODS else run.t_end - period_end * dt
+    if reason in (Reason.PERIODS, Reason.MAX_PERIODS):
+        period_end, tau_end = scene.horizon_periods, 0.0
+    else:
+        period_end = int(run.t_end // dt)
+        tau_end = run.t_end - period_end * dt
     if reason.status is Status.ERROR:
         text = run.message
     elif reason is Reason.REST:
-        text = f"{n} parts at rest for good: each sticks where its friction holds it at any table acceleration"
+        text = (f"{n} parts at rest for good: no table acceleration of the profile moves a part alone or a cluster "
+                f"pushed together")
     else:
         text = f"simulated {period_end} periods of {n} parts" + (
             f": {run.impacts} contact closings, {run.openings} openings, {run.sticks} sticks"

@@ -217,7 +217,7 @@ PARTS_OPTIONS = {"exact": ("max_events",), "moreau": ("h", "steps_per_period")}
 def parts_refused(method: str, scene, given: dict) -> str | None:
     """Why ``method`` with the options ``given`` cannot simulate the several parts of ``scene``, or None:
     the exact solver of several parts (:mod:`selfalign.solvers.parts_exact`) takes piecewise-constant
-    profiles on a uniform surface, Moreau's (:mod:`selfalign.solvers.parts_moreau`) any profile and surface
+    profiles, Moreau's (:mod:`selfalign.solvers.parts_moreau`) any profile and surface
     for a number of periods, ivp none; options the solver of several parts does not use are refused."""
     if method not in PARTS_OPTIONS:
         return f"method {method!r} cannot simulate several parts; use 'exact' or 'moreau'"
@@ -228,9 +228,6 @@ def parts_refused(method: str, scene, given: dict) -> str | None:
     if method == "exact" and not getattr(scene.profile, "piecewise_constant", False):
         return (f"method 'exact' simulates several parts under a piecewise-constant profile (closed-form arcs), got "
                 f"{type(scene.profile).__name__}; use method 'moreau'")
-    if method == "exact" and isinstance(scene.surface, StopZone):
-        return ("method 'exact' simulates several parts on a uniform surface only (the arcs of a cluster on a stop "
-                "zone are not derived yet); use method 'moreau'")
     if method == "moreau" and scene.until != "periods":
         return ("method 'moreau' simulates several parts for a number of periods (it has no rest decision for "
                 "them); use horizon periods=N, or method 'exact'")

@@ -149,8 +149,9 @@ class PartsResult:
     breaks : int
         Profile breaks (y'' jumps) passed.
     status : str
-        ``"horizon"`` (the periods asked for are done), ``"rest"`` (every part sticks where the friction
-        holds it for good: k_i mu_bar_i >= max|y''| for every part i) or ``"error"`` (see ``message``).
+        ``"horizon"`` (the periods asked for are done), ``"rest"`` (every part sticks for good: no table
+        acceleration of the profile moves a part alone or a cluster of parts pushed together) or
+        ``"error"`` (see ``message``).
     message : str
         Why the run ended with ``"error"``; empty otherwise.
     events : int
@@ -305,7 +306,7 @@ class _Chain:
         self.v_floor = VELOCITY_ULPS * _EPS * speed
         self.force_scale = amax + float(np.max(self.k)) * self.c_mu
         self.a_tol = ACCELERATION_ULPS * _EPS * self.force_scale
-        self.rest_acc = amax
+        self.extremes = (float(np.max(profile.accels)), float(np.min(profile.accels)))
         self.sticks = self.slips = self.impacts = self.openings = self.breaks = 0
         self.b, self.s, self.out = np.empty(n), np.empty(n), np.empty(n)
         self.lower = np.zeros(max(n - 1, 0))
@@ -616,10 +617,26 @@ class _Chain:
                         self.work[:CHAIN_WORK_ROWS, first:last + 1])
 
     def at_rest(self) -> bool:
-        """Every part sticks where its friction holds it for good (k_i mu_bar_i >= max|y''|)."""
+        """Every part sticks for good: at rest, no table acceleration of the profile moves any cluster.  The
+        mode selection (:func:`~selfalign.model.parts.chain_minimiser`, b = -y'', the stick bounds) gives zero
+        accelerations under the largest and the smallest y'' of the profile, and so under every y'' between
+        (its solution is monotone in b); for a part alone this is k_i mu_bar_i >= max|y''|, for parts pushed
+        together their pooled bound (a pair held in a stop zone where the mean of its coefficients reaches
+        max|y''|)."""
         if not (np.all(self.v == 0.0) and np.all(self.a == 0.0)):
             return False
-        return all(self.k[j] * self.mu(j) >= self.rest_acc for j in range(self.n))
+        for first, last in self.runs(self.joined):
+            group = slice(first, last + 1)
+            b, s, out = self.b[group], self.s[group], self.out[group]
+            for j in range(first, last + 1):
+                s[j - first] = self.k[j] * self.mu(j)
+            for ay in self.extremes:
+                b[:] = -ay
+                chain_minimiser(b, self.m[group], s, self.lower[first:last], self.all_joined[first:last], out,
+                                self.work[:CHAIN_WORK_ROWS, first:last + 1])
+                if np.any(out != 0.0):
+                    return False
+        return True
 
     # -- the run ------------------------------------------------------------------------------------------
     def run(self, periods: int, max_events: int) -> PartsResult:
