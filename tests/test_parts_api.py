@@ -137,3 +137,24 @@ def test_a_pushed_pair_comes_to_rest_in_the_stop_zone_through_simulate():
     moreau = sa.simulate(sa.Scene(PROFILE, zone, parts=pair, periods=exact.period_end + 1, method="moreau",
                                   solver_options={"steps_per_period": 2000}))
     assert np.max(np.abs(moreau.x_end - exact.x_end)) < 1e-3
+
+
+def test_the_cli_simulates_a_scene_file_of_several_parts(tmp_path):
+    """``selfalign simulate`` takes a scene file with parts: its summary lists the end state of every part,
+    and the HDF5 result stores them (rear-most first) and reads back as the Trajectory simulate returns."""
+    from click.testing import CliRunner
+
+    from selfalign.cli.commands import selfalign as cli
+    from selfalign.io.hdf5 import read_h5
+    from selfalign.io.simulation_result import trajectory_from_result
+
+    scene = sa.Scene(PROFILE, sa.StopZone(0.5, W, 2.5), parts=[sa.Part(0.35, width=W), sa.Part(0.40, width=W)],
+                     until="rest", max_periods=400, name="pair")
+    path, out = tmp_path / "pair.yaml", tmp_path / "pair.h5"
+    path.write_text(__import__("yaml").safe_dump(scene.to_dict(), sort_keys=False))
+    result = CliRunner().invoke(cli, ["simulate", str(path), "-o", str(out)])
+    assert result.exit_code == 0, result.output
+    assert "status rest" in result.output and "x_end = [0.53, 0.58]" in result.output
+    stored = trajectory_from_result(read_h5(out))
+    expected = sa.simulate(scene)
+    assert stored.x_end.tolist() == expected.x_end.tolist() and stored.status is sa.Status.REST

@@ -18,6 +18,7 @@ from dataclasses import asdict
 from pathlib import Path
 
 import click
+import numpy as np
 
 from ..analysis.classification import CASE_LABELS, classify
 from ..analysis.design import design
@@ -171,16 +172,24 @@ def summary(scene: Scene, traj) -> str:
     dt = float(scene.profile.dt)
     t_end = traj.period_end * dt + traj.tau_end
     si = scene.si
-    x_si = f" ({si.to_si(traj.x_end, 'length'):.6g} m)" if si else ""
+    x_si = f" ({_values(si.to_si(traj.x_end, 'length'), '.6g')} m)" if si else ""
     text = (f"{scene.name}: {traj.method} solver, status {Status(traj.status).value} ({traj.message}); "
-            f"x_end = {traj.x_end:.10g}{x_si}, v_end = {traj.v_end:.6g} at t = {t_end:.6g} "
+            f"x_end = {_values(traj.x_end, '.10g')}{x_si}, v_end = {_values(traj.v_end, '.6g')} at t = {t_end:.6g} "
             f"({traj.period_end} periods of dt = {dt:.6g} and {traj.tau_end:.6g})")
     elapsed = t_end - scene.phase * dt
     if isinstance(scene.surface, Uniform) and elapsed > 0:
-        mean = (traj.x_end - scene.x0) / elapsed
-        mean_si = f" ({si.to_si(mean, 'velocity'):.6g} m/s)" if si else ""
-        text += f"; mean velocity (x_end - x0) / (t_end - t0) = {mean:.6g}{mean_si}"
+        start = scene.x0 if scene.parts is None else np.array([part.x0 for part in scene.parts])
+        mean = (traj.x_end - start) / elapsed
+        mean_si = f" ({_values(si.to_si(mean, 'velocity'), '.6g')} m/s)" if si else ""
+        text += f"; mean velocity (x_end - x0) / (t_end - t0) = {_values(mean, '.6g')}{mean_si}"
     return text + "."
+
+
+def _values(value, spec: str) -> str:
+    """A number in the format ``spec``, or for several parts a bracketed list of them (rear-most first)."""
+    if np.ndim(value) == 0:
+        return format(float(value), spec)
+    return "[" + ", ".join(format(float(v), spec) for v in np.asarray(value)) + "]"
 
 
 @selfalign.command(short_help="Validate scene files.")

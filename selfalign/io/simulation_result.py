@@ -97,8 +97,8 @@ def trajectory_content(traj: Trajectory, scene: Scene) -> tuple[dict, dict, dict
         "status": Status(traj.status).value,
         "reason": Reason(traj.reason).name.lower(),
         "message": traj.message,
-        "x_end": float(traj.x_end),
-        "v_end": float(traj.v_end),
+        "x_end": _end_state(traj.x_end),
+        "v_end": _end_state(traj.v_end),
         "period_end": int(traj.period_end),
         "tau_end": float(traj.tau_end),
         "t_end": int(traj.period_end) * dt + float(traj.tau_end),
@@ -116,13 +116,21 @@ def trajectory_content(traj: Trajectory, scene: Scene) -> tuple[dict, dict, dict
     return {}, attrs, groups
 
 
+def _end_state(value):
+    """An end position or velocity as stored: a float, or for several parts a list of floats (rear-most
+    first)."""
+    return float(value) if np.ndim(value) == 0 else [float(v) for v in np.asarray(value)]
+
+
 def trajectory_from_result(result: dict) -> Trajectory:
     """The Trajectory stored in a simulation result (:func:`read_h5` layout)."""
     a, g = result["attrs"], result["groups"]
     series = dict(g["series"]["datasets"]) if "series" in g else {}
     events = events_from_datasets(g["events"]["datasets"]) if "events" in g else None
     return Trajectory(
-        x_end=a["x_end"], v_end=a["v_end"], period_end=a["period_end"], tau_end=a["tau_end"],
+        x_end=a["x_end"] if np.ndim(a["x_end"]) == 0 else np.asarray(a["x_end"], dtype=float),
+        v_end=a["v_end"] if np.ndim(a["v_end"]) == 0 else np.asarray(a["v_end"], dtype=float),
+        period_end=a["period_end"], tau_end=a["tau_end"],
         status=Status(a["status"]), reason=Reason[a["reason"].upper()], message=a["message"], method=a["method"],
         options=dict(a["options"]),
         series=series, events=events, info=dict(g["info"]["attrs"]),
