@@ -1,0 +1,295 @@
+"""The exact event-driven solver of several parts on one table (selfalign.solvers.parts_exact) against the
+single-part exact solver, the paper's scaling (Sect. 3.2), the impact law and its own invariants
+(docs/explanation/several-parts.md)."""
+
+import math
+
+import numpy as np
+import pytest
+
+import selfalign as sa
+from selfalign.model.parts import Part
+from selfalign.solvers import parts_exact as PE
+from selfalign.solvers.parts_exact import simulate_parts
+
+#: The Fig. 18 profile (Sect. 7.3): forward slips only (y3'' < 1).
+FIG18 = sa.ThreePhaseProfile(dt=1.05, dy=0.084, y2=2.2, y3=0.9)
+#: A profile of Fig. 16 (Sect. 7.2) at dt = 1: y3'' > 1, so the parts also slip backward.
+BACKWARD = sa.ThreePhaseProfile(dt=1.0, dy=0.084, y2=2.3, y3=1.3)
+W = 0.05
+TOL = 1e-12
+
+
+def single(profile, x0=0.0, v0=0.0, periods=20):
+    """(x_end, v_end) of the single-part exact solver."""
+    result = sa.simulate(sa.Scene(profile, x0=x0, v0=v0, periods=periods))
+    return result.x_end, result.v_end
+
+
+def scaled(profile, k):
+    """The profile with y'' divided by k (Sect. 3.2's scaling: a part of friction factor k under y'' moves
+    as k times a part of factor 1 under y'' / k)."""
+    return sa.PiecewiseConstantProfile(profile.breaks, profile.accels / k, profile.piece_position[0] / k,
+                                       profile.piece_velocity[0] / k)
+
+
+@pytest.fixture
+def gaps(monkeypatch):
+    """The smallest gap between neighbours, relative to the positions' scale, seen after every event."""
+    seen = []
+    settle = PE._Chain.settle
+
+    def watched(self, *args, **kwargs):
+        settle(self, *args, **kwargs)
+        assert np.all(np.isfinite(self.x)) and np.all(np.isfinite(self.v))
+        if self.n > 1:
+            g = (self.x[1:] - self.w[1:]) - self.x[:-1]
+            seen.append(float(np.min(g / (np.abs(self.x[:-1]) + self.length_scale))))
+
+    monkeypatch.setattr(PE._Chain, "settle", watched)
+    return seen
+
+
+@pytest.mark.parametrize("profile", [FIG18, BACKWARD], ids=["fig18", "backward"])
+@pytest.mark.parametrize("x0, v0", [(0.0, 0.0), (0.3, -0.4)])
+def test_one_part_equals_the_single_part_solver(profile, x0, v0):
+    """Hypothesis: with one part the model is the paper's eq. (6) on a uniform surface, and both solvers
+    integrate the same closed-form quadratics between the same events (Sects. 4.4.3, 5.1), so after 20
+    periods of a three-phase profile x_end and v_end agree with selfalign.simulate to 1e-12."""
+    x, v = single(profile, x0, v0)
+    result = simulate_parts(profile, [Part(x0, v0, width=W)], periods=20)
+    assert result.status == "horizon" and result.t_end == pytest.approx(20 * profile.dt, rel=1e-15)
+    assert abs(result.x_end[0] - x) <= TOL and abs(result.v_end[0] - v) <= TOL
+    assert result.sticks >= 19 and result.impacts == result.openings == 0
+
+
+def test_parts_far_apart_each_move_as_alone():
+    """Hypothesis: parts whose gaps never close exert no contact force (lam_i = 0 unless the gap is 0,
+    docs/explanation/several-parts.md), so each moves as the single-part solver from its own start, to
+    1e-12 after 20 periods."""
+    starts = [(-20.0, 0.5), (0.0, 0.0), (20.0, -0.3), (40.0, 0.1)]
+    parts = [Part(x0, v0, width=W) for x0, v0 in starts]
+    result = simulate_parts(BACKWARD, parts, periods=20)
+    assert result.impacts == 0 and result.status == "horizon"
+    for i, (x0, v0) in enumerate(starts):
+        x, v = single(BACKWARD, x0, v0)
+        assert abs(result.x_end[i] - x) <= TOL and abs(result.v_end[i] - v) <= TOL
+
+
+@pytest.mark.parametrize("count", [2, 50])
+def test_touching_equal_parts_move_as_one(count, gaps):
+    """Hypothesis: equal parts touching at one velocity have equal accelerations from chain_minimiser
+    (docs/explanation/several-parts.md), so they stay together and move as the single part, each a width
+    ahead of the one behind, to 1e-12 after 20 periods (with backward slips, which pull no contact apart
+    either).  No gap becomes negative beyond a few ulp.  (Width 1/16: the touching start positions are
+    exact in binary.)"""
+    width = 0.0625
+    parts = [Part(i * width, width=width) for i in range(count)]
+    result = simulate_parts(BACKWARD, parts, periods=20)
+    x, v = single(BACKWARD)
+    assert result.openings == 0 and result.impacts == 0
+    assert np.all(np.abs(result.x_end - (x + width * np.arange(count))) <= TOL)
+    assert np.all(np.abs(result.v_end - v) <= TOL)
+    assert min(gaps) >= -8 * np.finfo(float).eps
+
+
+def test_a_part_that_catches_up_then_moves_with_the_other_as_one(gaps):
+    """Hypothesis: with e = 0 the rear part, started fast behind a part at rest, merges with it (plastic
+    impact, impact_velocities); once both stick at the end of the first period they are one cluster of equal
+    parts, so over the next 19 periods they move as the single part from that position (to 1e-12)."""
+    parts = [Part(-0.06, 0.5, width=W), Part(0.0, width=W)]
+    first = simulate_parts(FIG18, parts, periods=1)
+    assert first.impacts == 1 and np.all(first.v_end == 0.0)
+    assert abs((first.x_end[1] - W) - first.x_end[0]) <= 1e-15
+    result = simulate_parts(FIG18, parts, periods=20)
+    x, v = single(FIG18, x0=first.x_end[0], periods=19)
+    assert abs(result.x_end[0] - x) <= TOL and abs(result.x_end[1] - (x + W)) <= TOL
+    assert result.impacts == 1 and result.openings == 0
+    assert min(gaps) >= -8 * np.finfo(float).eps
+
+
+@pytest.mark.parametrize("masses", [(1.0, 1.0), (1.0, 3.0), (2.0, 0.5)])
+def test_a_pushed_cluster_moves_with_the_mass_weighted_factor(masses):
+    """Hypothesis: parts pushed together (the rear one with less friction, moving forward) pool in
+    chain_minimiser into one part of friction factor k = sum m_i k_i / sum m_i; by the scaling of Sect. 3.2
+    such a part under y'' moves as k times a part of factor 1 under y'' / k, so x_end equals k times the
+    single-part solver's on the scaled profile (to 1e-12 after 20 periods, the front part a width ahead),
+    and equals this solver's own single part of factor k."""
+    m0, m1 = masses
+    k = (m0 * 1.0 + m1 * 2.0) / (m0 + m1)
+    parts = [Part(0.0, width=W, mass=m0, friction_factor=1.0), Part(W, width=W, mass=m1, friction_factor=2.0)]
+    result = simulate_parts(FIG18, parts, periods=20)
+    x, v = single(scaled(FIG18, k))
+    assert result.openings == 0
+    assert abs(result.x_end[0] - k * x) <= TOL and abs(result.x_end[1] - (k * x + W)) <= TOL
+    assert np.all(np.abs(result.v_end - k * v) <= TOL)
+    alone = simulate_parts(FIG18, [Part(0.0, width=W, friction_factor=k)], periods=20)
+    assert abs(alone.x_end[0] - result.x_end[0]) <= TOL
+
+
+def test_parts_touching_at_rest_stick_by_their_pooled_bound():
+    """Hypothesis: at v = 0 chain_minimiser pools the stick bounds of pushed parts: under y'' = -1.5 a part
+    of factor 1 alone would slip, but touching a part of factor 2 in front the pair's bound is 1.5 and the
+    tie |y''| = k mu_bar sticks (tie rule 1), so nothing moves, exactly; under y'' = +1.5 the rear part
+    slips backward alone and the contact opens."""
+    parts = [Part(0.0, width=W, friction_factor=1.0), Part(W, width=W, friction_factor=2.0)]
+    held = sa.PiecewiseConstantProfile([0.0, 0.25, 1.0], [-1.5, 0.5], 0.0, 0.0)
+    result = simulate_parts(held, parts, periods=5)
+    assert result.x_end.tolist() == [0.0, W] and result.v_end.tolist() == [0.0, 0.0]
+    assert result.sticks == result.slips == result.openings == 0 and result.breaks == 9
+    pulled = sa.PiecewiseConstantProfile([0.0, 0.5, 1.0], [-1.5, 1.5], 0.0, 0.0)
+    result = simulate_parts(pulled, parts, periods=1)
+    assert result.openings == 1 and result.x_end[1] == W and result.x_end[0] < 0.0
+
+
+@pytest.mark.parametrize("e", [0.0, 0.5, 1.0])
+def test_an_impact_keeps_momentum_and_scales_the_relative_velocity_by_e(e):
+    """Hypothesis: with y'' = 0 two parts sliding forward decelerate alike (x'' = -1, eq. 6), so their
+    momentum falls at the rate sum m_i and their relative velocity changes only at the impact, where Newton's
+    law (impact_velocities) keeps the momentum and turns the approach velocity dv into -e dv: the kinetic
+    energy of the relative motion, m_0 m_1 dv^2 / (2 (m_0 + m_1)), is kept for e = 1 and loses the fraction
+    1 - e^2 otherwise (to 1e-12 at t = 0.3, after the impact at t = 0.25)."""
+    flat = sa.PiecewiseConstantProfile([0.0, 0.3], [0.0], 0.0, 0.0)
+    m = np.array([1.0, 2.0])
+    v0 = np.array([0.9, 0.5])
+    parts = [Part(0.0, 0.9, width=0.1, mass=1.0), Part(0.2, 0.5, width=0.1, mass=2.0)]
+    result = simulate_parts(flat, parts, restitution=e, periods=1)
+    assert result.impacts == 1 and np.all(result.v_end > 0.0)
+    assert abs(m @ result.v_end - (m @ v0 - m.sum() * 0.3)) <= TOL
+    reduced = m[0] * m[1] / m.sum()
+    before = 0.5 * reduced * (v0[0] - v0[1]) ** 2
+    after = 0.5 * reduced * (result.v_end[1] - result.v_end[0]) ** 2
+    assert abs(after - e * e * before) <= TOL
+    assert abs((result.v_end[1] - result.v_end[0]) - e * (v0[0] - v0[1])) <= TOL
+
+
+@pytest.mark.parametrize("e, after", [(1.0, (-1.0 / 3.0, 2.0 / 3.0, 2.0 / 3.0)), (0.0, (1.0 / 3.0,) * 3)])
+def test_newtons_cradle_takes_the_simultaneous_impact_law(e, after):
+    """Hypothesis: the impact law is simultaneous over the touching run (docs/explanation/several-parts.md,
+    impact_velocities): a part hitting two equal touching parts at rest with speed u leaves them with
+    (-1/3, 2/3, 2/3) u for e = 1 (no wave: not (0, 0, 1) u) and (1/3, 1/3, 1/3) u for e = 0.  Under y'' = 0
+    the rear part arrives after s* = 1 - sqrt(1 - 2 g) with u = 1 - s* (eq. 21's deceleration, x'' = -1), and
+    after the impact every part decelerates toward rest by 1, so at t = 0.01 the velocities are known in
+    closed form (to 1e-12); the front two stay one cluster."""
+    flat = sa.PiecewiseConstantProfile([0.0, 0.01], [0.0], 0.0, 0.0)
+    width, gap = 0.0625, 0.001
+    parts = [Part(0.0, 1.0, width=width), Part(gap + width, width=width), Part(gap + 2 * width, width=width)]
+    result = simulate_parts(flat, parts, restitution=e, periods=1)
+    s_star = 1.0 - math.sqrt(1.0 - 2.0 * gap)
+    u = 1.0 - s_star
+    expected = [f * u - math.copysign(0.01 - s_star, f) for f in after]
+    assert result.impacts == 1 and result.openings == 0
+    assert np.all(np.abs(result.v_end - expected) <= TOL)
+
+
+def test_a_part_that_stops_exactly_at_its_neighbour_grazes_it():
+    """Hypothesis: a part sliding at v = 1 under y'' = 0 stops after 1 at x = 0.5 (eq. 21), exactly where a
+    part at rest begins: the gap closes with zero relative velocity at the moment v = 0 (tie rules 2, 4),
+    so both stick, touching, without overlap, and the run is at rest (k >= max|y''| = 0)."""
+    flat = sa.PiecewiseConstantProfile([0.0, 2.0], [0.0], 0.0, 0.0)
+    result = simulate_parts(flat, [Part(0.0, 1.0, width=0.1), Part(0.6, width=0.1)], periods=1)
+    assert result.status == "rest" and result.t_end == 1.0
+    assert result.x_end.tolist() == [0.5, 0.6] and result.v_end.tolist() == [0.0, 0.0]
+    assert result.impacts == 1 and result.sticks == 1
+
+
+def test_a_tangent_closing_touches_and_separates(gaps):
+    """Hypothesis: under y'' = -3 a part of factor 3 sliding at v = 1 (x'' = 0) behind a part of factor 1
+    starting to slip from rest (x'' = 2) has the gap 0.25 - s + s^2, tangent to 0 at s = 0.5: the contact
+    closes with zero relative velocity (one contact event, no impulse) and opens again at once, as the
+    front part pulls away (chain_minimiser); no gap goes below 0."""
+    push = sa.PiecewiseConstantProfile([0.0, 1.0, 2.0], [-3.0, 3.0], 0.0, 0.0)
+    parts = [Part(0.0, 1.0, width=0.1, friction_factor=3.0), Part(0.35, width=0.1)]
+    result = simulate_parts(push, parts, periods=1)
+    assert result.impacts == 1 and result.openings == 0
+    assert min(gaps) >= 0.0
+
+
+@pytest.mark.parametrize("e", [0.5, 0.9, 0.99])
+@pytest.mark.parametrize("mass", [1.0, 1000.0])
+def test_bouncing_against_a_stuck_part_under_a_push_ends_in_a_plastic_contact(e, mass, gaps):
+    """Hypothesis: a part of factor 1 pushed forward by y'' = -1.5 against a part of factor 3 (stuck: 1.5 < 3)
+    bounces with e > 0 infinitely often in a finite time (Zeno: the relative velocity falls geometrically);
+    tie rules 4-5 (the contact and velocity floors, docs/explanation/several-parts.md) end the sequence as a
+    plastic contact after a finite number of impacts, well before the push ends at t = 3.  Then y'' = +1.5
+    pulls the rear part back from rest (x'' = -0.5 for 3), so at t = 6 it lies 2.25 behind the contact
+    position and moves at -1.5 (to 1e-12)."""
+    push = sa.PiecewiseConstantProfile([0.0, 3.0, 6.0], [-1.5, 1.5], 0.0, 0.0)
+    parts = [Part(0.0, width=0.1), Part(0.2, width=0.1, friction_factor=3.0, mass=mass)]
+    result = simulate_parts(push, parts, restitution=e, periods=1)
+    assert result.status == "horizon" and 3 <= result.impacts <= 500
+    assert abs(result.x_end[0] - (result.x_end[1] - 0.1 - 2.25)) <= TOL
+    assert abs(result.v_end[0] + 1.5) <= TOL and result.v_end[1] == 0.0
+    assert min(gaps) >= -8 * np.finfo(float).eps
+
+
+def test_a_chain_of_fifty_mixed_parts_stays_ordered_and_finite(gaps):
+    """Hypothesis: the event solver keeps its invariants on a long chain of unequal parts (widths, masses,
+    friction factors, start velocities; some touching, some apart) with forward and backward slips and
+    partly elastic impacts: the state stays finite, no gap goes below a few ulp of the positions' scale,
+    and the run reaches its horizon within the event budget."""
+    rng = np.random.default_rng(5)
+    parts, front = [], 0.0
+    for _ in range(50):
+        width = rng.uniform(0.02, 0.08)
+        front += width + (0.0 if rng.random() < 0.5 else rng.uniform(0.0, 0.05))
+        parts.append(Part(front, rng.uniform(-0.3, 0.3), width=width, mass=rng.uniform(0.5, 2.0),
+                          friction_factor=rng.uniform(0.8, 1.6)))
+    result = simulate_parts(BACKWARD, parts, restitution=0.3, periods=5, max_events=200_000)
+    assert result.status == "horizon"
+    assert result.impacts > 50 and result.openings > 50
+    assert min(gaps) >= -8 * np.finfo(float).eps
+    g = (result.x_end[1:] - [p.width for p in parts[1:]]) - result.x_end[:-1]
+    assert np.all(g >= -1e-15)
+
+
+def test_parts_held_for_good_end_at_rest():
+    """Hypothesis: a part whose friction k mu_bar is at least max|y''| can never slip once stuck (Sect. 3.2's
+    stick condition with k mu_bar for 1), so a run whose parts all stick where this holds ends with status
+    'rest' at that moment: at once from rest, or at the stick of eq. (21) from v0 = 0.3 in the dwell (y'' = 0,
+    stop after 0.3 / k)."""
+    parts = [Part(0.0, width=W, friction_factor=3.0), Part(0.1, width=W, friction_factor=2.5)]
+    result = simulate_parts(FIG18, parts, periods=5)
+    assert result.status == "rest" and result.t_end == 0.0 and result.events == 0
+    parts[0] = Part(0.0, 0.3, width=W, friction_factor=3.0)
+    result = simulate_parts(FIG18, parts, periods=5)
+    assert result.status == "rest" and abs(result.t_end - 0.1) <= TOL and result.sticks == 1
+
+
+def test_the_event_budget_ends_the_run_with_an_error():
+    """Hypothesis: a run that uses up max_events stops with status 'error' and a message naming the budget,
+    at a finite state, at the first event time that reaches the budget (one event time may count several
+    events: a break and the slip it starts)."""
+    result = simulate_parts(FIG18, [Part(0.0, width=W)], periods=20, max_events=5)
+    assert result.status == "error" and "max_events = 5" in result.message
+    assert 5 <= result.events <= 6 and np.isfinite(result.x_end[0]) and result.t_end < 2 * FIG18.dt
+
+
+@pytest.mark.parametrize("call, error, words", [
+    (lambda: simulate_parts(FIG18, [], periods=1), ValueError, "at least one Part"),
+    (lambda: simulate_parts(FIG18, [Part(0.0, width=W), Part(0.01, width=W)], periods=1), ValueError,
+     "parts[1] overlaps parts[0]"),
+    (lambda: simulate_parts(FIG18, [Part(0.0, width=W), "part"], periods=1), TypeError, "parts[1]"),
+    (lambda: Part(0.0, width=0.0), ValueError, "width"),
+    (lambda: Part(math.nan, width=W), ValueError, "x0"),
+    (lambda: Part(0.0, math.inf, width=W), ValueError, "v0"),
+    (lambda: simulate_parts(FIG18, [Part(0.0, width=W)], restitution=1.5, periods=1), ValueError, "restitution"),
+    (lambda: simulate_parts(FIG18, [Part(0.0, width=W)], restitution=-0.1, periods=1), ValueError,
+     "restitution"),
+    (lambda: simulate_parts(FIG18, [Part(0.0, width=W)], restitution=math.nan, periods=1), ValueError,
+     "restitution"),
+    (lambda: simulate_parts(FIG18, [Part(0.0, width=W)], periods=0), ValueError, "periods"),
+    (lambda: simulate_parts(FIG18, [Part(0.0, width=W)], periods=2.5), TypeError, "periods"),
+    (lambda: simulate_parts(FIG18, [Part(0.0, width=W)], periods=1, max_events=0), ValueError, "max_events"),
+    (lambda: simulate_parts(sa.FourierProfile(1.0, [0.01], [0.0]), [Part(0.0, width=W)], periods=1), TypeError,
+     "PiecewiseConstantProfile"),
+    (lambda: simulate_parts(FIG18, [Part(0.0, width=W)], surface=sa.StopZone(0.5, W, 2.5), periods=1),
+     ValueError, "StopZone"),
+    (lambda: simulate_parts(FIG18, [Part(0.0, width=W)], surface="uniform", periods=1), TypeError, "surface"),
+])
+def test_bad_input_is_refused_naming_the_parameter(call, error, words):
+    """Hypothesis: every input is checked before any work, and the error names the part (its index) or the
+    parameter and what is allowed."""
+    with pytest.raises(error) as info:
+        call()
+    assert words in str(info.value)
