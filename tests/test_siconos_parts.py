@@ -1,0 +1,74 @@
+"""Several parts on one table in Siconos (benchmarks/siconos_parts.py, docs/explanation/siconos-parts.md)
+against ``moreau_parts``.
+
+Siconos runs under its own interpreter (``SICONOS_PYTHON``, default /usr/bin/python3) in a subprocess;
+where that interpreter cannot import it, these tests are skipped with the reason.
+"""
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from selfalign.solvers.parts_moreau import moreau_parts
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+
+import siconos_parts as S  # noqa: E402
+
+pytestmark = pytest.mark.slow
+
+#: Steps per period of the comparison (h = dt / 1000).
+STEPS = 1000
+#: Largest end-position error of moreau_parts (and of Siconos) against the exact solver on the two parts
+#: with e = 0 after 10 periods at h = dt/1000, measured by benchmarks/siconos_parts.py: 4.06e-4.
+FIRST_ORDER_ERROR = 4.06e-4
+
+
+@pytest.fixture(scope="module")
+def siconos():
+    reason = S.siconos_missing()
+    if reason:
+        pytest.skip(reason)
+    return S.run_siconos
+
+
+@pytest.fixture(scope="module")
+def two_parts(siconos):
+    """The end positions of Siconos and moreau_parts on the two parts with e = 0 (10 periods, dt/1000)."""
+    parts, e, _ = S.SCENES["two parts, e = 0"]
+    got = siconos([S.job(parts, restitution=e, steps_per_period=STEPS)])["runs"][0]
+    ours = moreau_parts(S.PROFILE, parts, restitution=e, periods=S.PERIODS, steps_per_period=STEPS)
+    return np.asarray(got["x_end"]), ours.x_end
+
+
+def test_siconos_and_moreau_parts_agree_within_their_first_order_error(two_parts):
+    """Hypothesis: Siconos' Moreau-Jean scheme and moreau_parts are both first-order time-steppings of the
+    same model (docs/explanation/several-parts.md: eq. 6 per part, Coulomb's eq. 2, unilateral contacts),
+    so each ends within its error E(h) of the exact solution and the two within 2 E(h) of each other; E at
+    h = dt/1000 on this scene is 4.06e-4 (docs/explanation/siconos-parts.md), so 2.5 E bounds the difference.
+    A model mapped wrongly (a friction bound off by a factor, a contact missing) moves the parts by about 0.1."""
+    siconos_x, moreau_x = two_parts
+    assert np.max(np.abs(siconos_x - moreau_x)) <= 2.5 * FIRST_ORDER_ERROR
+
+
+def test_siconos_with_theta_one_half_is_the_scheme_of_moreau_parts(two_parts):
+    """Hypothesis: with theta = 1/2, the step-mean table force and the midpoint activation of contacts,
+    Siconos' Moreau-Jean step is the step of moreau_parts (docs/explanation/siconos-parts.md, "The scheme"),
+    so with e = 0 the two differ only by the one-step problem's Gauss-Seidel tolerance (1e-14) and
+    rounding, accumulated over 10,000 steps: 1e-9 bounds that, far below the first-order error 4e-4."""
+    siconos_x, moreau_x = two_parts
+    assert np.max(np.abs(siconos_x - moreau_x)) <= 1e-9
+
+
+def test_newtons_cradle_in_siconos_is_simultaneous_only_when_both_contacts_are_closed(siconos):
+    """Hypothesis (docs/explanation/siconos-parts.md, "The laws"): Siconos' Newton law at the velocity level
+    acts on every contact active in the step; three equal parts touching, v = (1, 0, 0), e = 1, give the
+    model's simultaneous law (-1/3, 2/3, 2/3) (docs/explanation/several-parts.md); with the front one
+    1e-12 ahead the second contact is not active in the first step, and the impacts come one after the
+    other: (0, 0, 1).  Tolerance: the Gauss-Seidel tolerance 1e-14 times a few."""
+    touching, apart = S.cradle(0.0), S.cradle(1e-12)
+    np.testing.assert_allclose(touching["siconos_v"], touching["simultaneous_law_v"], atol=1e-12)
+    np.testing.assert_allclose(touching["simultaneous_law_v"], [-1 / 3, 2 / 3, 2 / 3], atol=1e-15)
+    np.testing.assert_allclose(apart["siconos_v"], [0.0, 0.0, 1.0], atol=1e-12)
