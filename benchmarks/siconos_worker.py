@@ -14,6 +14,7 @@ is ``{"runs": [run, ...]}`` with, per run,
     surface          null (uniform) or {"x_mu", "c_mu"}: the stop zone of eqs. 7-9 over each part's width
     restitution      Newton's e of the contacts between neighbours
     periods, steps_per_period, theta
+    activation_threshold   optional, default 0: MoreauJeanOSI's threshold of the contact test y + h/2 y' <= threshold
 
 and the answer (JSON on stdout) is ``{"version": ..., "runs": [{"x_end", "v_end", "cpu", "steps",
 "gs_iterations", "residual"}, ...]}``; ``cpu`` is the process time of the model's construction and of the
@@ -103,8 +104,9 @@ def run(job):
     options = problem.numericsSolverOptions()
     options.dparam[sn.SICONOS_DPARAM_TOL] = TOLERANCE
     options.iparam[sn.SICONOS_IPARAM_MAX_ITER] = MAX_ITERATIONS
-    simulation = sk.TimeStepping(nsds, sk.TimeDiscretisation(0.0, h), sk.MoreauJeanOSI(float(job["theta"])),
-                                 problem)
+    integrator = sk.MoreauJeanOSI(float(job["theta"]))
+    integrator.setConstraintActivationThreshold(float(job.get("activation_threshold", 0.0)))
+    simulation = sk.TimeStepping(nsds, sk.TimeDiscretisation(0.0, h), integrator, problem)
     force = -table_impulses(profile["breaks"], profile["accels"], dt, n) / h
     masses = [float(p["mass"]) for p in parts]
     iterations, residual = 0, 0.0
