@@ -20,17 +20,15 @@ The scenes (the Fig. 18 profile, ``ThreePhaseProfile(dt=1.05, dy=0.084, y2=2.2, 
 * ``two parts, stop zone``: the two parts of the second scene (e = 0) walking into a stop zone
   (x_mu = 0.5, c_mu = 2.5, eqs. 7-9 over each part's own width).
 
-The reference is the exact solver ``selfalign.solvers.parts_exact.simulate_parts``, except on the stop
-zone, which it does not simulate: there the reference is ``moreau_parts`` at dt/256000 (say so in
-any use of those numbers).  The error is the largest |x_i - x_i,ref| at the end.  Where the profile's
-breaks and the parts' events fall inside a step changes a first-order scheme's error by a factor of ten
-and more (one part at dt/1000: 1.6e-4 with 1000 steps per period, 2.2e-3 with 1001 ... 1004), so at each
-level n every method runs on the grids n, n + 1, ..., n + 4, and the table gives the largest error over
-them next to the error at n; the order of each method is the least-squares slope of log(largest error)
-over log h.  The CPU time is ``time.process_time`` of the solving process around one run (Siconos: the
-model's construction and its time loop; moreau_parts: one call after a first call that compiled it),
-without interpreter start or imports, the mean over the grids.  Siconos runs with theta = 1/2 and, as a
-variant on the scenes of one and two parts, theta = 1.
+The reference is the exact solver ``selfalign.solvers.parts_exact.simulate_parts``. The error is the largest
+|x_i - x_i,ref| at the end. Where the profile's breaks and the parts' events fall inside a step changes a
+first-order scheme's error by a factor of ten and more (one part at dt/1000: 1.6e-4 with 1000 steps per
+period, 2.2e-3 with 1001 ... 1004), so at each level n every method runs on the grids n, n + 1, ..., n + 4,
+and the table gives the largest error over them next to the error at n; the order of each method is the
+least-squares slope of log(largest error) over log h. The CPU time is ``time.process_time`` of the solving
+process around one run (Siconos: the model's construction and its time loop; moreau_parts: one call after a
+first call that compiled it), without interpreter start or imports, the mean over the grids. Siconos runs
+with theta = 1/2 and, as a variant on the scenes of one and two parts, theta = 1.
 
 Also measured: Newton's cradle in Siconos (three equal parts, e = 1, the front contact closed or 1e-12
 open), and the chain of 10 with MoreauJeanOSI's contact threshold 0 (the default) and 1e-13.
@@ -62,8 +60,6 @@ PERIODS = 10
 LEVELS = (250, 500, 1000, 2000, 4000, 8000, 16000)
 #: Grids per level: n, n + 1, ..., n + SHIFTS - 1 steps per period (:func:`measure`).
 SHIFTS = 5
-#: Steps per period of the Moreau reference where the exact solver does not apply (the stop zone).
-REFERENCE_STEPS = 256_000
 #: Moreau-Jean's theta: 0.5 makes its position update the paper's midpoint rule (docs/explanation/siconos-parts.md).
 THETA = 0.5
 
@@ -122,18 +118,12 @@ def run_siconos(runs: list[dict]) -> dict:
 
 
 def reference(parts, restitution, surface, periods=PERIODS):
-    """(end positions, kind, CPU s) of the reference of a scene (module docstring)."""
+    """(end positions, CPU s) of the exact solver on a scene."""
     start = time.process_time()
-    if surface is None:
-        result = simulate_parts(PROFILE, parts, restitution=restitution, periods=periods)
-        if result.status != "horizon":
-            raise RuntimeError(f"the exact solver ended with {result.status}: {result.message}")
-        kind = "exact"
-    else:
-        result = moreau_parts(PROFILE, parts, surface=surface, restitution=restitution, periods=periods,
-                              steps_per_period=REFERENCE_STEPS)
-        kind = f"moreau_parts, dt/{REFERENCE_STEPS}"
-    return np.asarray(result.x_end), kind, time.process_time() - start
+    result = simulate_parts(PROFILE, parts, surface=surface, restitution=restitution, periods=periods)
+    if result.status != "horizon":
+        raise RuntimeError(f"the exact solver ended with {result.status}: {result.message}")
+    return np.asarray(result.x_end), time.process_time() - start
 
 
 def fit_order(h, error) -> float:
@@ -158,7 +148,7 @@ def measure(scenes=tuple(SCENES), levels=LEVELS, periods=PERIODS, shifts=SHIFTS)
     report = {"profile": PROFILE.params(), "periods": periods, "shifts": shifts, "scenes": {}}
     for name in scenes:
         parts, e, surface = SCENES[name]
-        x_ref, kind, ref_cpu = reference(parts, e, surface, periods)
+        x_ref, ref_cpu = reference(parts, e, surface, periods)
         grids = [n + j for n in levels for j in range(shifts)]
         ends = {"moreau_parts": [], "siconos": []}
         for n in grids:
@@ -188,7 +178,7 @@ def measure(scenes=tuple(SCENES), levels=LEVELS, periods=PERIODS, shifts=SHIFTS)
                              "residual": max((extra.get("residual", 0.0) for _, _, extra in block)),
                              "x_end": block[0][0].tolist()})
         orders = {m: fit_order(*zip(*[(r["h"], r["error"]) for r in rows if r["method"] == m])) for m in ends}
-        report["scenes"][name] = {"reference": kind, "reference_cpu": ref_cpu, "x_ref": x_ref.tolist(),
+        report["scenes"][name] = {"reference_cpu": ref_cpu, "x_ref": x_ref.tolist(),
                                   "restitution": e, "parts": len(parts), "rows": rows, "orders": orders}
     return report
 
@@ -234,7 +224,7 @@ def format_table(report) -> str:
     lines = []
     for name, scene in report["scenes"].items():
         orders = ", ".join(f"{m} {order:.2f}" for m, order in scene["orders"].items())
-        lines += [f"**{name}** (reference: {scene['reference']}; fitted order: {orders})", "",
+        lines += [f"**{name}** (exact solver: {scene['reference_cpu'] * 1e3:.1f} ms; fitted order: {orders})", "",
                   "| method | h | error (max over grids) | error at n | CPU s | to moreau_parts | GS iterations |",
                   "|---|---|---|---|---|---|---|"]
         for row in scene["rows"]:
