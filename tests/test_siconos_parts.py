@@ -86,3 +86,22 @@ def test_touching_parts_in_siconos_need_a_contact_threshold_to_stay_touching(sic
     found = {case["activation_threshold"]: case["to_moreau"] for case in S.touching_chain(steps=(250,))}
     assert found[0.0] > 1e-6
     assert found[1e-13] < 1e-9
+
+
+@pytest.mark.parametrize("gap, expected", [(0.0, (-1 / 3, 2 / 3, 2 / 3)), (1e-12, (0.0, 0.0, 1.0))])
+def test_newtons_cradle_in_the_exact_solver_matches_siconos(gap, expected):
+    """Hypothesis (docs/explanation/siconos-parts.md, "The laws"): the exact solver applies the model's
+    simultaneous law when both contacts are closed at the impact, (-1/3, 2/3, 2/3), and with the front
+    part 1e-12 ahead closes the front contact at a second event, (0, 0, 1), as Siconos does.  The parts'
+    friction factor 1e-9 (the model needs one > 0) changes the velocities by 1e-9 over the unit time
+    without table motion; tolerance 1e-8."""
+    from selfalign.model.parts import Part
+    from selfalign.model.profiles import PiecewiseConstantProfile
+    from selfalign.solvers.parts_exact import simulate_parts
+
+    w, k = 0.0625, 1e-9
+    parts = [Part(0.0, 1.0, width=w, friction_factor=k), Part(w, width=w, friction_factor=k),
+             Part(2 * w + gap, width=w, friction_factor=k)]
+    result = simulate_parts(PiecewiseConstantProfile([0.0, 1.0], [0.0], 0.0, 0.0), parts, restitution=1.0,
+                            periods=1)
+    np.testing.assert_allclose(result.v_end, expected, atol=1e-8)
