@@ -154,7 +154,7 @@ class Scene:
         The SI scale of a scene file given in SI units.
     description : str, optional
         Free text.
-    parts : sequence of Part, optional
+    parts : list or tuple of Part, optional
         Several parts on the table instead of the paper's one (:class:`~selfalign.Part`, the rear-most first,
         not overlapping; docs/explanation/several-parts.md): each carries its own start x0, v0, so the
         scene's ``x0`` and ``v0`` stay 0, and on a stop zone each part's width must be the zone's body width
