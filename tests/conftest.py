@@ -5,6 +5,8 @@ and the committed figures/*.png) from the current code instead of comparing
 against them; use it only after an intended change of a figure and review the diff.
 """
 
+import fcntl
+import json
 import os
 import shutil
 import subprocess
@@ -155,13 +157,10 @@ def small_config(repo: Path) -> dict:
     return config
 
 
-@pytest.fixture(scope="session")
-def small_pipeline(repo, tmp_path_factory):
-    """A workflow copy in which the whole pipeline (every stage, every figure) ran on
-    :func:`small_config`: (workdir, result files every stage must have written, snakemake's
-    exit code, its output).  Shared by the result-metadata and report tests, so that a clean
-    checkout (no ``results/``) tests both."""
-    workdir = copy_workflow(repo, tmp_path_factory.mktemp("small_pipeline"))
+def run_small_pipeline(repo: Path, workdir: Path) -> tuple[list[str], int, str]:
+    """Run the whole pipeline (every stage, every figure) on :func:`small_config` in ``workdir``, a
+    fresh copy of the workflow: (result files every stage must have written, snakemake's exit code,
+    its output)."""
     config = small_config(repo)
     (workdir / "workflow/config/config.yaml").write_text(yaml.safe_dump(config, sort_keys=False))
     s = config["stages"]
@@ -174,4 +173,32 @@ def small_pipeline(repo, tmp_path_factory):
     targets += ["results/effects/static_friction.h5", "results/effects/stribeck.h5",
                 "results/finite_jerk/finite_jerk.h5"]
     rc, out = run_snakemake(workdir, "-c2")
-    return workdir, targets, rc, out
+    return targets, rc, out
+
+
+@pytest.fixture(scope="session")
+def small_pipeline(repo, tmp_path_factory):
+    """A workflow copy in which the whole pipeline ran on :func:`small_config`
+    (:func:`run_small_pipeline`): (workdir, result files every stage must have written, snakemake's
+    exit code, its output).  Shared by the result-metadata, report and reproducibility tests, so
+    that a clean checkout (no ``results/``) tests them; its users only read the copy.
+
+    Under pytest-xdist the processes of one session share a single run: the first to ask builds it
+    in the session's common temporary directory while holding a lock on a file there, and records
+    the exit code and output; the others wait for the lock and read the same run."""
+    if "PYTEST_XDIST_WORKER" not in os.environ:
+        workdir = copy_workflow(repo, tmp_path_factory.mktemp("small_pipeline"))
+        return (workdir, *run_small_pipeline(repo, workdir))
+    shared = tmp_path_factory.getbasetemp().parent
+    workdir, record = shared / "small_pipeline", shared / "small_pipeline.json"
+    with open(shared / "small_pipeline.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if not record.exists():
+            shutil.rmtree(workdir, ignore_errors=True)  # left by a process killed while it ran
+            workdir.mkdir()
+            targets, rc, out = run_small_pipeline(repo, copy_workflow(repo, workdir))
+            partial = record.with_suffix(".tmp")
+            partial.write_text(json.dumps({"targets": targets, "rc": rc, "out": out}))
+            partial.replace(record)
+        run = json.loads(record.read_text())
+    return workdir, run["targets"], run["rc"], run["out"]
