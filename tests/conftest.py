@@ -100,12 +100,19 @@ def workdir(repo, tmp_path):
     return copy_workflow(repo, tmp_path)
 
 
-def run_snakemake(workdir, *args):
+#: Seconds a snakemake run may take before the test gives up on it (a hang guard, not a claim).
+SNAKEMAKE_TIMEOUT = 300
+#: The same for a run of the whole small pipeline: on an empty compiled-code cache its jobs compile
+#: the kernel's entry points first (about 250 s of CPU against 100 s on a full cache).
+PIPELINE_TIMEOUT = 900
+
+
+def run_snakemake(workdir, *args, timeout=SNAKEMAKE_TIMEOUT):
     """Run snakemake in ``workdir`` with the package of this checkout (also where the installed
     one is another worktree's); return (exit code, stdout + stderr)."""
     env = {**os.environ, "PYTHONPATH": os.pathsep.join(filter(None, [str(REPO), os.environ.get("PYTHONPATH")]))}
     proc = subprocess.run([*SNAKEMAKE, *args], cwd=workdir, capture_output=True,
-                          text=True, timeout=300, env=env)
+                          text=True, timeout=timeout, env=env)
     return proc.returncode, proc.stdout + proc.stderr
 
 
@@ -172,7 +179,7 @@ def run_small_pipeline(repo: Path, workdir: Path) -> tuple[list[str], int, str]:
     targets += [f"results/design/{name}.h5" for name in s["design"]["designs"]]
     targets += ["results/effects/static_friction.h5", "results/effects/stribeck.h5",
                 "results/finite_jerk/finite_jerk.h5"]
-    rc, out = run_snakemake(workdir, "-c2")
+    rc, out = run_snakemake(workdir, "-c2", timeout=PIPELINE_TIMEOUT)
     return targets, rc, out
 
 
