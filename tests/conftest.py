@@ -5,6 +5,8 @@ and the committed figures/*.png) from the current code instead of comparing
 against them; use it only after an intended change of a figure and review the diff.
 """
 
+import fcntl
+import json
 import os
 import shutil
 import subprocess
@@ -98,12 +100,19 @@ def workdir(repo, tmp_path):
     return copy_workflow(repo, tmp_path)
 
 
-def run_snakemake(workdir, *args):
+#: Seconds a snakemake run may take before the test gives up on it (a hang guard, not a claim).
+SNAKEMAKE_TIMEOUT = 300
+#: The same for a run of the whole small pipeline: on an empty compiled-code cache its jobs compile
+#: the kernel's entry points first (about 250 s of CPU against 100 s on a full cache).
+PIPELINE_TIMEOUT = 900
+
+
+def run_snakemake(workdir, *args, timeout=SNAKEMAKE_TIMEOUT):
     """Run snakemake in ``workdir`` with the package of this checkout (also where the installed
     one is another worktree's); return (exit code, stdout + stderr)."""
     env = {**os.environ, "PYTHONPATH": os.pathsep.join(filter(None, [str(REPO), os.environ.get("PYTHONPATH")]))}
     proc = subprocess.run([*SNAKEMAKE, *args], cwd=workdir, capture_output=True,
-                          text=True, timeout=300, env=env)
+                          text=True, timeout=timeout, env=env)
     return proc.returncode, proc.stdout + proc.stderr
 
 
@@ -155,13 +164,10 @@ def small_config(repo: Path) -> dict:
     return config
 
 
-@pytest.fixture(scope="session")
-def small_pipeline(repo, tmp_path_factory):
-    """A workflow copy in which the whole pipeline (every stage, every figure) ran on
-    :func:`small_config`: (workdir, result files every stage must have written, snakemake's
-    exit code, its output).  Shared by the result-metadata and report tests, so that a clean
-    checkout (no ``results/``) tests both."""
-    workdir = copy_workflow(repo, tmp_path_factory.mktemp("small_pipeline"))
+def run_small_pipeline(repo: Path, workdir: Path) -> tuple[list[str], int, str]:
+    """Run the whole pipeline (every stage, every figure) on :func:`small_config` in ``workdir``, a
+    fresh copy of the workflow: (result files every stage must have written, snakemake's exit code,
+    its output)."""
     config = small_config(repo)
     (workdir / "workflow/config/config.yaml").write_text(yaml.safe_dump(config, sort_keys=False))
     s = config["stages"]
@@ -173,5 +179,33 @@ def small_pipeline(repo, tmp_path_factory):
     targets += [f"results/design/{name}.h5" for name in s["design"]["designs"]]
     targets += ["results/effects/static_friction.h5", "results/effects/stribeck.h5",
                 "results/finite_jerk/finite_jerk.h5"]
-    rc, out = run_snakemake(workdir, "-c2")
-    return workdir, targets, rc, out
+    rc, out = run_snakemake(workdir, "-c2", timeout=PIPELINE_TIMEOUT)
+    return targets, rc, out
+
+
+@pytest.fixture(scope="session")
+def small_pipeline(repo, tmp_path_factory):
+    """A workflow copy in which the whole pipeline ran on :func:`small_config`
+    (:func:`run_small_pipeline`): (workdir, result files every stage must have written, snakemake's
+    exit code, its output).  Shared by the result-metadata, report and reproducibility tests, so
+    that a clean checkout (no ``results/``) tests them; its users only read the copy.
+
+    Under pytest-xdist the processes of one session share a single run: the first to ask builds it
+    in the session's common temporary directory while holding a lock on a file there, and records
+    the exit code and output; the others wait for the lock and read the same run."""
+    if "PYTEST_XDIST_WORKER" not in os.environ:
+        workdir = copy_workflow(repo, tmp_path_factory.mktemp("small_pipeline"))
+        return (workdir, *run_small_pipeline(repo, workdir))
+    shared = tmp_path_factory.getbasetemp().parent
+    workdir, record = shared / "small_pipeline", shared / "small_pipeline.json"
+    with open(shared / "small_pipeline.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if not record.exists():
+            shutil.rmtree(workdir, ignore_errors=True)  # left by a process killed while it ran
+            workdir.mkdir()
+            targets, rc, out = run_small_pipeline(repo, copy_workflow(repo, workdir))
+            partial = record.with_suffix(".tmp")
+            partial.write_text(json.dumps({"targets": targets, "rc": rc, "out": out}))
+            partial.replace(record)
+        run = json.loads(record.read_text())
+    return workdir, run["targets"], run["rc"], run["out"]

@@ -24,8 +24,7 @@ from pathlib import Path
 import h5py
 import numpy as np
 import pytest
-import yaml
-from conftest import REPO, copy_workflow, run_snakemake, small_config
+from conftest import REPO, copy_workflow, run_small_pipeline
 from rerun.chunk import RrdReader
 
 from selfalign import load_scene, simulate
@@ -215,18 +214,19 @@ def test_stale_temporaries_of_other_targets_and_hosts_are_kept(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted(p.name for p in kept)
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
 def second_small_pipeline(tmp_path_factory):
-    """A second run of the small pipeline (conftest ``small_config``) in a fresh copy."""
+    """A second run of the small pipeline (conftest ``run_small_pipeline``) in a fresh copy, apart
+    from the first.  Session-scoped and named first by its test, so that it is set up before
+    ``small_pipeline``: under pytest-xdist it runs while another process builds the shared first run."""
     workdir = copy_workflow(REPO, tmp_path_factory.mktemp("second_small_pipeline"))
-    (workdir / "workflow/config/config.yaml").write_text(yaml.safe_dump(small_config(REPO), sort_keys=False))
-    rc, out = run_snakemake(workdir, "-c2")
+    _, rc, out = run_small_pipeline(REPO, workdir)
     assert rc == 0, out
     return workdir
 
 
 @pytest.mark.slow
-def test_two_pipeline_runs_give_the_same_results(small_pipeline, second_small_pipeline):
+def test_two_pipeline_runs_give_the_same_results(second_small_pipeline, small_pipeline):
     """Every stage run twice (the small pipeline, every rule that writes HDF5 at least once): every
     HDF5 result is byte-identical up to its marked measurements, every rerun recording has the same
     id and content; no attribute of any result is named for a time measurement (measured values
