@@ -108,6 +108,8 @@ def test_scene_files_refuse_keys_that_do_nothing():
         sa.scene_from_dict({**base, "parts": [{"x0": 0.0, "width": W}, {"x0": 0.1}]})
     with pytest.raises(sa.SceneError, match="restitution"):
         sa.scene_from_dict({**base, "parts": [{"x0": 0.0, "width": W}], "restitution": 2})
+    with pytest.raises(sa.SceneError, match=r"parts\.1\.x0: must be a finite number"):
+        sa.scene_from_dict({**base, "parts": [{"x0": 0.0, "width": W}, {"x0": float("nan"), "width": W}]})
 
 
 def test_parts_at_rest_end_the_run():

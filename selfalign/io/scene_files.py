@@ -266,12 +266,14 @@ def scene_from_dict(data: dict, source: str = "<scene>", name: str | None = None
             if "width" not in p and width is None:
                 raise SceneError(f"{source}: parts[{i}].width is required on a {s['kind']} surface (a part's extent "
                                  f"decides its contacts); on a stop zone it defaults to body.width")
-        try:
-            parts = [Part(value(p, "x0", "length"), value(p, "v0", "velocity", 0.0),
-                          width=value(p, "width", "length") if "width" in p else width, mass=p.get("mass", 1.0),
-                          friction_factor=p.get("friction_factor", 1.0)) for p in data["parts"]]
-        except ValueError as exc:
-            raise SceneError(f"{source}: parts: {exc}") from None
+        parts = []
+        for i, p in enumerate(data["parts"]):
+            try:
+                parts.append(Part(value(p, "x0", "length"), value(p, "v0", "velocity", 0.0),
+                                  width=value(p, "width", "length") if "width" in p else width,
+                                  mass=p.get("mass", 1.0), friction_factor=p.get("friction_factor", 1.0)))
+            except ValueError as exc:
+                raise SceneError(f"{source}: parts[{i}]: {exc}") from None
     try:
         scene = Scene(
             profile=profile, surface=surface, friction=friction,
