@@ -31,10 +31,10 @@ OPT_IN_MARKERS = ("slurm", "exhaustive")
 
 def pytest_collection_modifyitems(config, items):
     """Tests marked ``slurm`` start daemons as root and take minutes; tests marked ``exhaustive``
-    repeat a claim with a far larger search budget (minutes each).  Both run only when the ``-m``
-    expression names their marker (``.ci/run`` runs ``pytest -q -m slurm`` and ``-m exhaustive``), so
-    the README's test command and e.g. ``-m 'not slow'`` leave them out.  Files holding a slow test
-    run first."""
+    repeat a claim with a far larger budget (a wider search, the whole pipeline run twice; minutes
+    each).  Both run only when the ``-m`` expression names their marker (``.ci/run`` runs
+    ``pytest -q -m slurm`` and ``-m exhaustive``), so the README's test command and e.g.
+    ``-m 'not slow'`` leave them out.  Files holding a slow test run first."""
     for marker in OPT_IN_MARKERS:
         if marker in config.getoption("markexpr"):
             continue
