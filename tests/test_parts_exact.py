@@ -334,17 +334,25 @@ def test_a_sliding_pair_separates_where_its_contact_force_vanishes(monkeypatch, 
     assert min(gaps) >= -8 * np.finfo(float).eps
 
 
+def random_chain(seed, rear, *, widths, touching, gap, factors, count=8):
+    """``count`` parts of random widths, start velocities in [-0.3, 0.3], masses and friction factors, the
+    rear-most with its rear at ``rear``; each touches the one behind it with probability ``touching``, else
+    lies up to ``gap`` ahead of it."""
+    rng = np.random.default_rng(seed)
+    parts, front = [], rear
+    for _ in range(count):
+        width = rng.uniform(*widths)
+        front += width + (0.0 if rng.random() < touching else rng.uniform(0.0, gap))
+        parts.append(Part(front, rng.uniform(-0.3, 0.3), width=width, mass=rng.uniform(0.5, 2.0),
+                          friction_factor=rng.uniform(*factors)))
+    return parts
+
+
 def test_a_mixed_chain_entering_a_stop_zone_stays_ordered_and_finite(gaps):
     """Hypothesis: on a stop zone the clusters follow harmonic and hyperbolic arcs, contacts close on a search
     that cannot pass a closing (conservative advancement with exact derivatives) and open where a contact force
     falls to zero; the invariants hold: a finite state, no gap below a few ulp, the horizon reached."""
-    rng = np.random.default_rng(11)
-    parts, front = [], -0.4
-    for _ in range(8):
-        width = rng.uniform(0.02, 0.08)
-        front += width + (0.0 if rng.random() < 0.5 else rng.uniform(0.0, 0.05))
-        parts.append(Part(front, rng.uniform(-0.3, 0.3), width=width, mass=rng.uniform(0.5, 2.0),
-                          friction_factor=rng.uniform(0.8, 1.6)))
+    parts = random_chain(11, -0.4, widths=(0.02, 0.08), touching=0.5, gap=0.05, factors=(0.8, 1.6))
     result = simulate_parts(BACKWARD, parts, surface=sa.StopZone(0.0, 0.05, 2.0), restitution=0.3, periods=15)
     assert result.status in ("horizon", "rest")
     assert result.impacts > 10
@@ -360,13 +368,7 @@ def test_the_exact_solver_and_moreau_time_stepping_agree(surface, e):
     h = dt / 1e5 (and ten times that for dt / 1e4): the test allows 5e-5."""
     from selfalign.solvers.parts_moreau import moreau_parts
 
-    rng = np.random.default_rng(3)
-    parts, front = [], -0.3
-    for _ in range(8):
-        width = rng.uniform(0.03, 0.07)
-        front += width + (0.0 if rng.random() < 0.6 else rng.uniform(0.0, 0.03))
-        parts.append(Part(front, rng.uniform(-0.3, 0.3), width=width, mass=rng.uniform(0.5, 2.0),
-                          friction_factor=rng.uniform(0.7, 1.5)))
+    parts = random_chain(3, -0.3, widths=(0.03, 0.07), touching=0.6, gap=0.03, factors=(0.7, 1.5))
     exact = simulate_parts(BACKWARD, parts, surface=surface, restitution=e, periods=5)
     moreau = moreau_parts(BACKWARD, parts, surface=surface, restitution=e, periods=5, steps_per_period=100_000)
     assert exact.impacts > 5
