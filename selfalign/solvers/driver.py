@@ -169,10 +169,6 @@ def simulate(scene: Scene, method: str | None = None, **options) -> Trajectory:
                        samples, time.process_time() - cpu0)
 
 
-#: Reason of an "error" end of the exact solver of several parts, by the start of its message.
-_PARTS_ERRORS = (("max_events", Reason.MAX_EVENTS), ("more than", Reason.STALL))
-
-
 def _simulate_parts(scene: Scene, method: str, given: dict) -> Trajectory:
     """A scene with several parts through its solver (:mod:`.parts_exact` or :mod:`.parts_moreau`), as a
     Trajectory whose x_end, v_end have shape (N,)."""
@@ -188,12 +184,11 @@ def _simulate_parts(scene: Scene, method: str, given: dict) -> Trajectory:
         stats, used = {"events": run.events, "steps": 0}, {"max_events": options["max_events"]}
         info = {"sticks": run.sticks, "slips": run.slips, "impacts": run.impacts, "openings": run.openings,
                 "breaks": run.breaks}
-        if run.status == "error":
-            reason = next((r for start, r in _PARTS_ERRORS if run.message.startswith(start)), Reason.NONFINITE)
-        elif scene.until == "periods":      # at rest for good before the horizon: nothing moves after it
-            reason = Reason.PERIODS
-        else:
-            reason = Reason.REST if run.status == "rest" else Reason.MAX_PERIODS
+        reason = run.reason
+        if reason.status is not Status.ERROR and scene.until == "periods":
+            reason = Reason.PERIODS         # at rest for good before the horizon: nothing moves after it
+        elif reason is Reason.PERIODS:
+            reason = Reason.MAX_PERIODS     # until='rest': the horizon is max_periods
     else:
         steps, h = moreau.moreau_step(dt, options)
         run = moreau_parts(scene.profile, scene.parts, surface=scene.surface, restitution=scene.restitution,

@@ -95,7 +95,7 @@ from ..model.parts import (
     impact_velocities,
 )
 from ..model.profiles import PiecewiseConstantProfile
-from .outcomes import HIGH, LOW, STALL_EVENTS, ZONE
+from .outcomes import HIGH, LOW, STALL_EVENTS, ZONE, Reason, Status
 
 #: A gap between clusters within this many ulp of the positions' scale counts as closed (tie rule 4).
 CONTACT_ULPS = 16
@@ -127,8 +127,10 @@ class PartsResult:
         The end state (Attributes).
     sticks, slips, impacts, openings, breaks : int
         The events per kind (Attributes).
-    status, message : str
-        How the run ended (Attributes).
+    reason : Reason
+        Why the run ended (Attributes).
+    message : str
+        Why it ended with an error (Attributes).
 
     Attributes
     ----------
@@ -148,10 +150,12 @@ class PartsResult:
         Contact openings: touching neighbours separate.
     breaks : int
         Profile breaks (y'' jumps) passed.
-    status : str
-        ``"horizon"`` (the periods asked for are done), ``"rest"`` (every part sticks for good: no table
-        acceleration of the profile moves a part alone or a cluster of parts pushed together) or
-        ``"error"`` (see ``message``).
+    reason : Reason
+        ``PERIODS`` (the periods asked for are done), ``REST`` (every part sticks for good: no table
+        acceleration of the profile moves a part alone or a cluster of parts pushed together), or
+        ``MAX_EVENTS``, ``STALL`` or ``NONFINITE`` (errors, see ``message``).
+    status : Status
+        The status of ``reason``: ``"horizon"``, ``"rest"`` or ``"error"``.
     message : str
         Why the run ended with ``"error"``; empty otherwise.
     events : int
@@ -164,7 +168,8 @@ class PartsResult:
     >>> from selfalign.solvers.parts_exact import simulate_parts
     >>> profile = sa.ThreePhaseProfile(dt=1.05, dy=0.084, y2=2.2, y3=0.9)
     >>> result = simulate_parts(profile, [Part(0.0, width=0.05)], periods=2)
-    >>> result.status, result.events == result.sticks + result.slips + result.impacts + result.openings + result.breaks
+    >>> result.status.value, result.events == sum((result.sticks, result.slips, result.impacts, result.openings,
+    ...                                             result.breaks))
     ('horizon', True)
     """
 
@@ -176,8 +181,13 @@ class PartsResult:
     impacts: int
     openings: int
     breaks: int
-    status: str
+    reason: Reason
     message: str = ""
+
+    @property
+    def status(self) -> Status:
+        """The status of ``reason``."""
+        return self.reason.status
 
     @property
     def events(self) -> int:
@@ -251,7 +261,7 @@ def simulate_parts(profile, parts, *, surface=None, restitution=0.0, periods, ma
     >>> from selfalign.solvers.parts_exact import simulate_parts
     >>> profile = sa.ThreePhaseProfile(dt=1.05, dy=0.084, y2=2.2, y3=0.9)
     >>> result = simulate_parts(profile, [Part(0.0, width=0.05), Part(0.05, width=0.05)], periods=10)
-    >>> result.status, round(float(result.x_end[1] - result.x_end[0]), 12)
+    >>> result.status.value, round(float(result.x_end[1] - result.x_end[0]), 12)
     ('horizon', 0.05)
     >>> result.openings, result.impacts
     (0, 0)
@@ -655,9 +665,9 @@ class _Chain:
                 s0 = 0.0
                 while True:
                     if self.at_rest():
-                        return self.result(period * dt + breaks[p] + s0, "rest")
+                        return self.result(period * dt + breaks[p] + s0, Reason.REST)
                     if self.events() >= max_events:
-                        return self.result(period * dt + breaks[p] + s0, "error",
+                        return self.result(period * dt + breaks[p] + s0, Reason.MAX_EVENTS,
                                            f"max_events = {max_events} reached; raise max_events")
                     s, stops, closes, crossings, opens = self.next_event(seg - s0)
                     if not (stops or closes or crossings or opens):
@@ -667,21 +677,21 @@ class _Chain:
                     s0 += s
                     stalled = stalled + 1 if s == 0.0 else 0
                     if stalled > STALL_EVENTS:
-                        return self.result(period * dt + breaks[p] + s0, "error",
+                        return self.result(period * dt + breaks[p] + s0, Reason.STALL,
                                            f"more than {STALL_EVENTS} events of zero length in a row at t = "
                                            f"{period * dt + breaks[p] + s0!r}")
                     self.settle(ay, closes, opens, instant=s == 0.0)
-        return self.result(periods * dt, "horizon")
+        return self.result(periods * dt, Reason.PERIODS)
 
     def events(self) -> int:
         return self.sticks + self.slips + self.impacts + self.openings + self.breaks
 
-    def result(self, t: float, status: str, message: str = "") -> PartsResult:
+    def result(self, t: float, reason: Reason, message: str = "") -> PartsResult:
         if not (np.all(np.isfinite(self.x)) and np.all(np.isfinite(self.v))):
-            status, message = "error", message or f"the state stopped being finite before t = {t!r}"
+            reason, message = Reason.NONFINITE, message or f"the state stopped being finite before t = {t!r}"
         return PartsResult(t_end=float(t), x_end=self.x + self.origin, v_end=self.v.copy(), sticks=self.sticks,
                            slips=self.slips, impacts=self.impacts, openings=self.openings, breaks=self.breaks,
-                           status=status, message=message)
+                           reason=reason, message=message)
 
 
 def _safe_step(coef, p: int, quartic: float, limit: float) -> float:
