@@ -609,10 +609,10 @@ class _Chain:
                 self.a[group] = np.dot(self.m[group], b) / np.sum(self.m[group])
                 self.set_arc(start, end)
 
-    def decide(self, first: int, last: int, ay: float) -> None:
+    def decide(self, first: int, last: int, ay: float, out=None) -> None:
         """Accelerations of the parts first..last, touching at one velocity, under y'' = ay
         (:func:`~selfalign.model.parts.chain_minimiser`: kinetic friction at v != 0, the stick bound at
-        v = 0)."""
+        v = 0), written into their ``a`` or into ``out`` (an array of the group's length)."""
         group = slice(first, last + 1)
         vel = self.v[first]
         b, s = self.b[group], self.s[group]
@@ -623,8 +623,8 @@ class _Chain:
         else:
             b[:] = -ay - math.copysign(1.0, vel) * s
             s[:] = 0.0
-        chain_minimiser(b, self.m[group], s, self.lower[first:last], self.all_joined[first:last], self.a[group],
-                        self.work[:CHAIN_WORK_ROWS, first:last + 1])
+        chain_minimiser(b, self.m[group], s, self.lower[first:last], self.all_joined[first:last],
+                        self.a[group] if out is None else out, self.work[:CHAIN_WORK_ROWS, first:last + 1])
 
     def at_rest(self) -> bool:
         """Every part sticks for good: at rest, no table acceleration of the profile moves any cluster.  The
@@ -636,14 +636,9 @@ class _Chain:
         if not (np.all(self.v == 0.0) and np.all(self.a == 0.0)):
             return False
         for first, last in self.runs(self.joined):
-            group = slice(first, last + 1)
-            b, s, out = self.b[group], self.s[group], self.out[group]
-            for j in range(first, last + 1):
-                s[j - first] = self.k[j] * self.mu(j)
+            out = self.out[first:last + 1]
             for ay in self.extremes:
-                b[:] = -ay
-                chain_minimiser(b, self.m[group], s, self.lower[first:last], self.all_joined[first:last], out,
-                                self.work[:CHAIN_WORK_ROWS, first:last + 1])
+                self.decide(first, last, ay, out)
                 if np.any(out != 0.0):
                     return False
         return True
