@@ -262,12 +262,11 @@ def scene_from_dict(data: dict, source: str = "<scene>", name: str | None = None
     parts = None
     if "parts" in data:
         width = surface.w if isinstance(surface, StopZone) else None
+        parts = []
         for i, p in enumerate(data["parts"]):
             if "width" not in p and width is None:
                 raise SceneError(f"{source}: parts[{i}].width is required on a {s['kind']} surface (a part's extent "
                                  f"decides its contacts); on a stop zone it defaults to body.width")
-        parts = []
-        for i, p in enumerate(data["parts"]):
             try:
                 parts.append(Part(value(p, "x0", "length"), value(p, "v0", "velocity", 0.0),
                                   width=value(p, "width", "length") if "width" in p else width,

@@ -122,14 +122,19 @@ def _end_state(value):
     return float(value) if np.ndim(value) == 0 else [float(v) for v in np.asarray(value)]
 
 
+def _stored_end_state(value):
+    """The end position or velocity :func:`_end_state` stored, as the Trajectory holds it (an array for
+    several parts)."""
+    return value if np.ndim(value) == 0 else np.asarray(value, dtype=float)
+
+
 def trajectory_from_result(result: dict) -> Trajectory:
     """The Trajectory stored in a simulation result (:func:`read_h5` layout)."""
     a, g = result["attrs"], result["groups"]
     series = dict(g["series"]["datasets"]) if "series" in g else {}
     events = events_from_datasets(g["events"]["datasets"]) if "events" in g else None
     return Trajectory(
-        x_end=a["x_end"] if np.ndim(a["x_end"]) == 0 else np.asarray(a["x_end"], dtype=float),
-        v_end=a["v_end"] if np.ndim(a["v_end"]) == 0 else np.asarray(a["v_end"], dtype=float),
+        x_end=_stored_end_state(a["x_end"]), v_end=_stored_end_state(a["v_end"]),
         period_end=a["period_end"], tau_end=a["tau_end"],
         status=Status(a["status"]), reason=Reason[a["reason"].upper()], message=a["message"], method=a["method"],
         options=dict(a["options"]),
