@@ -289,16 +289,11 @@ def chain_minimiser(b, m, s, lower, joined, out, work) -> None:
         offset[i] = -shift[i]
     top = -1
     for i in range(n):
-        if i == 0 or not joined[i - 1]:
-            top += 1                       # a new run: its blocks never pool with the ones behind it
-            start[top] = i
-            value[top] = _block_minimiser(i, i, m, beta, s, offset)
-            work[5, top] = 1.0             # the block opens a run
-            continue
         top += 1
         start[top] = i
         value[top] = _block_minimiser(i, i, m, beta, s, offset)
-        work[5, top] = 0.0
+        # A block that opens a run (flag 1) never pools with the blocks behind it.
+        work[5, top] = 1.0 if i == 0 or not joined[i - 1] else 0.0
         while top > 0 and work[5, top] == 0.0 and value[top - 1] > value[top]:
             value[top - 1] = _block_minimiser(int(start[top - 1]), i, m, beta, s, offset)
             top -= 1
