@@ -29,14 +29,15 @@ The earliest of:
   is a crossing too);
 * the gap between two neighbouring clusters closing: the first positive root of a quadratic in the
   cancellation-free form (:func:`~selfalign.model.arcs.first_positive_root`) where both are on quadratic
-  arcs; otherwise conservative advancement on the two arcs (:meth:`_Chain.closing_search`): with the
-  gap's first three derivatives exact and its fourth bounded, the first root of the lower bound is a step
-  that cannot pass a closing, and the steps shrink as Newton's would near one.
+  arcs; otherwise conservative advancement on the two arcs
+  (:func:`~selfalign.solvers.engine.parts.closing_search`): with the gap's first three derivatives exact
+  and its fourth bounded, the first root of the lower bound is a step that cannot pass a closing, and the
+  steps shrink as Newton's would near one.
 
-At an event the clusters are decided again (:meth:`_Chain.settle`; every one at a break and on a stop
-zone, else those the event touched): the contacts that touch (a closed contact, a gap that closed at this
-event, or a gap within :data:`CONTACT_ULPS` ulp of the positions) and approach take the simultaneous
-impact law (:func:`~selfalign.model.parts.impact_velocities`); runs of touching parts with one velocity
+At an event the clusters are decided again (:func:`~selfalign.solvers.engine.parts.settle`; every one at a
+break and on a stop zone, else those the event touched): the contacts that touch (a closed contact, a gap
+that closed at this event, or a gap within :data:`CONTACT_ULPS` ulp of the positions) and approach take
+the simultaneous impact law (:func:`~selfalign.model.parts.impact_velocities`); runs of touching parts with one velocity
 (within :data:`VELOCITY_ULPS` ulp of the velocity scale) are pooled into one velocity; each such run gets
 its accelerations from :func:`~selfalign.model.parts.chain_minimiser` (kinetic friction at v != 0, the
 stick bound at v = 0), and splits where they differ (its contacts open).
