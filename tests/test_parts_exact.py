@@ -376,6 +376,57 @@ def test_the_exact_solver_and_moreau_time_stepping_agree(surface, e):
     assert np.max(np.abs(moreau.v_end - exact.v_end)) <= 5e-5
 
 
+def single_part_events(profile, surface, x0, v0, periods):
+    """(sticks, slip starts and reversals, zone crossings) in the event log of the single-part exact solver."""
+    traj = sa.simulate(sa.Scene(profile, surface or sa.Uniform(), x0=x0, v0=v0, periods=periods,
+                                record=sa.Record(events=True)))
+    kinds = traj.events["kind"]
+    return (int(np.sum(kinds == int(sa.EventKind.STICK))),
+            int(np.sum((kinds == int(sa.EventKind.SLIP)) | (kinds == int(sa.EventKind.REVERSAL)))),
+            int(np.sum(kinds == int(sa.EventKind.ZONE))))
+
+
+@pytest.mark.parametrize("profile, surface, starts", [
+    (BACKWARD, None, [(-20.0, 0.5, W), (0.0, 0.0, W), (20.0, -0.3, W)]),
+    (FIG18, sa.StopZone(0.15, W, 2.5), [(-3.0, 0.0, 0.03), (0.0, 0.0, 0.05), (0.7, 0.0, 0.08)]),
+], ids=["uniform", "zone"])
+def test_parts_far_apart_count_their_events_as_alone(profile, surface, starts):
+    """Hypothesis: parts that never touch move as alone (docs/explanation/several-parts.md), so each part's
+    sticks, slip starts (from stick, or reversals) and zone crossings are those of the single-part solver's
+    event log over the same 20 periods (on a stop zone the part's own width, eqs. 7-9), exactly, and it
+    takes part in no contact closing or opening; the totals of sticks and slips are the sums over the
+    parts (each cluster is one part)."""
+    parts = [Part(x0, v0, width=w) for x0, v0, w in starts]
+    result = simulate_parts(profile, parts, surface=surface, periods=20)
+    for i, (x0, v0, w) in enumerate(starts):
+        zone = None if surface is None else sa.StopZone(surface.x_mu, w, surface.c_mu)
+        expected = single_part_events(profile, zone, x0, v0, 20)
+        assert (result.part_sticks[i], result.part_slips[i], result.part_crossings[i]) == expected, i
+    assert result.part_sticks.shape == (3,) and result.part_sticks.sum() == result.sticks > 0
+    assert result.part_slips.sum() == result.slips > 0
+    assert not result.part_impacts.any() and not result.part_openings.any()
+    assert (result.part_crossings.sum() > 0) == (surface is not None)
+
+
+def test_events_per_part_count_every_part_of_a_cluster_and_both_parts_of_a_contact():
+    """Hypothesis: a stick or slip start of a cluster is one event in which each of its parts takes part, and a
+    contact closing or opening involves the two parts of the contact: a pushed pair (docs/explanation/
+    several-parts.md: touching, they move as one part) counts the same sticks and slips for both parts, each
+    the total; in the chase of Fig. 18 (the rear part, k = 0.7, hits the front one in every period) each of
+    the two parts counts every impact and opening; in a chain of eight, the counts per part add up to twice
+    the totals of closings and openings."""
+    pair = simulate_parts(FIG18, [Part(0.0, width=W), Part(W, width=W)], periods=10)
+    assert pair.part_sticks.tolist() == [pair.sticks] * 2 and pair.part_slips.tolist() == [pair.slips] * 2
+    assert pair.sticks >= 10 and not pair.part_impacts.any()
+    chase = simulate_parts(FIG18, [Part(0.0, width=W, friction_factor=0.7), Part(0.06, width=W)], periods=10)
+    assert chase.part_impacts.tolist() == [chase.impacts] * 2 and chase.impacts >= 5
+    assert chase.part_openings.tolist() == [chase.openings] * 2
+    parts = random_chain(3, -0.3, widths=(0.03, 0.07), touching=0.6, gap=0.03, factors=(0.7, 1.5))
+    chain = simulate_parts(BACKWARD, parts, restitution=0.5, periods=5)
+    assert chain.part_impacts.sum() == 2 * chain.impacts > 0 and chain.part_openings.sum() == 2 * chain.openings > 0
+    assert chain.part_sticks.sum() >= chain.sticks and chain.part_slips.sum() >= chain.slips
+
+
 def test_parts_held_for_good_end_at_rest():
     """Hypothesis: a part whose friction k mu_bar is at least max|y''| can never slip once stuck (Sect. 3.2's
     stick condition with k mu_bar for 1), so a run whose parts all stick where this holds ends with status

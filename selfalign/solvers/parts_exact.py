@@ -113,7 +113,9 @@ class PartsResult:
     """The end state and event counts of a run of several parts (:func:`simulate_parts`).
 
     The solver builds it; its constructor checks nothing.  The events are counted by kind, each at the
-    event time it happens (one event time may count several: a break and the slip it starts).
+    event time it happens (one event time may count several: a break and the slip it starts), in total and
+    per part: an event counts for every part it involves (a cluster's stick for each of its parts, a contact
+    closing or opening for the two parts of the contact), so the counts per part do not add up to the totals.
 
     Parameters
     ----------
@@ -123,6 +125,8 @@ class PartsResult:
         The end state (Attributes).
     sticks, slips, impacts, openings, breaks : int
         The events per kind (Attributes).
+    part_sticks, part_slips, part_impacts, part_openings, part_crossings : numpy.ndarray
+        The events per part (Attributes).
     reason : Reason
         Why the run ended (Attributes).
     message : str
@@ -146,6 +150,17 @@ class PartsResult:
         Contact openings: touching neighbours separate.
     breaks : int
         Profile breaks (y'' jumps) passed.
+    part_sticks : numpy.ndarray
+        Per part, shape (N,): the sticks of the clusters it was part of.
+    part_slips : numpy.ndarray
+        Per part: the slip starts of the clusters it was part of.
+    part_impacts : numpy.ndarray
+        Per part: the contact closings it took part in (with the part behind it or in front of it).
+    part_openings : numpy.ndarray
+        Per part: the openings of its contacts.
+    part_crossings : numpy.ndarray
+        Per part: its zone crossings, where it reached a boundary of its transition (x_mu or x_mu + w_i), to
+        enter it or leave it (0 on a uniform surface); they are not counted in ``events``.
     reason : Reason
         ``PERIODS`` (the periods asked for are done), ``REST`` (every part sticks for good: no table
         acceleration of the profile moves a part alone or a cluster of parts pushed together), or
@@ -167,6 +182,8 @@ class PartsResult:
     >>> result.status.value, result.events == sum((result.sticks, result.slips, result.impacts, result.openings,
     ...                                             result.breaks))
     ('horizon', True)
+    >>> result.part_sticks.tolist() == [result.sticks], result.part_crossings.tolist()
+    (True, [0])
     """
 
     t_end: float
@@ -177,6 +194,11 @@ class PartsResult:
     impacts: int
     openings: int
     breaks: int
+    part_sticks: np.ndarray
+    part_slips: np.ndarray
+    part_impacts: np.ndarray
+    part_openings: np.ndarray
+    part_crossings: np.ndarray
     reason: Reason
     message: str = ""
 
@@ -235,7 +257,7 @@ def simulate_parts(profile, parts, *, surface=None, restitution=0.0, periods, ma
     Returns
     -------
     PartsResult
-        The end time, positions, velocities, the events per kind and the status.
+        The end time, positions, velocities, the events per kind (in total and per part) and the status.
 
     Raises
     ------
@@ -361,4 +383,6 @@ class _Chain:
         c = self.c
         return PartsResult(t_end=t, x_end=x, v_end=v, sticks=int(c[C.CSTICKS]), slips=int(c[C.CSLIPS]),
                            impacts=int(c[C.CIMPACTS]), openings=int(c[C.COPENINGS]), breaks=int(c[C.CBREAKS]),
-                           reason=reason, message=message)
+                           part_sticks=self.g[C.PSTICKS].copy(), part_slips=self.g[C.PSLIPS].copy(),
+                           part_impacts=self.g[C.PIMPACTS].copy(), part_openings=self.g[C.POPENINGS].copy(),
+                           part_crossings=self.g[C.PCROSSINGS].copy(), reason=reason, message=message)
