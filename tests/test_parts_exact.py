@@ -64,6 +64,39 @@ def test_one_part_equals_the_single_part_solver(profile, x0, v0):
     assert result.sticks >= 19 and result.impacts == result.openings == 0
 
 
+@pytest.mark.parametrize("profile", [FIG18, BACKWARD], ids=["fig18", "backward"])
+@pytest.mark.parametrize("phase, x0, v0", [(0.3, 0.0, 0.0), (0.77, 0.3, -0.4), (0.05, 0.1, 0.2)])
+def test_a_start_phase_equals_the_single_part_solver_started_there(profile, phase, x0, v0):
+    """Hypothesis: a run that starts at tau0 = phase dt (its period boundaries at tau0 + n dt) integrates the
+    same closed-form arcs as the single-part solver started at that phase (Scene.phase), piece by piece from
+    inside the piece holding tau0, so with one part x_end and v_end agree to 1e-12 after 20 periods, at
+    t_end = tau0 + 20 dt; parts far apart each do (they exert no contact force), from the same phase."""
+    reference = sa.simulate(sa.Scene(profile, x0=x0, v0=v0, phase=phase, periods=20))
+    result = simulate_parts(profile, [Part(x0, v0, width=W)], periods=20, phase=phase)
+    assert result.status == "horizon" and abs(result.t_end - (phase * profile.dt + 20 * profile.dt)) <= TOL
+    assert abs(result.x_end[0] - reference.x_end) <= TOL and abs(result.v_end[0] - reference.v_end) <= TOL
+    starts = [(x0 - 20.0, v0), (x0, v0), (x0 + 20.0, 0.0)]
+    far = simulate_parts(profile, [Part(x, v, width=W) for x, v in starts], periods=20, phase=phase)
+    assert far.impacts == 0
+    for i, (x, v) in enumerate(starts):
+        alone = sa.simulate(sa.Scene(profile, x0=x, v0=v, phase=phase, periods=20))
+        assert abs(far.x_end[i] - alone.x_end) <= TOL and abs(far.v_end[i] - alone.v_end) <= TOL
+
+
+@pytest.mark.parametrize("phase", [0.2, 0.6])
+def test_a_start_phase_on_a_stop_zone_equals_the_single_part_solver_started_there(phase):
+    """Hypothesis: as with a uniform surface, with the transition's arcs and zone crossings (eqs. 42-44): parts
+    far apart on a stop zone, each of its own width, started at tau0 = phase dt, each end as the single-part
+    solver on StopZone(x_mu, w_i, c_mu) from that phase after 20 periods (to 1e-12)."""
+    starts = [(-3.0, 0.03), (0.0, 0.05), (0.7, 0.08)]
+    result = simulate_parts(FIG18, [Part(x0, width=w) for x0, w in starts], surface=sa.StopZone(0.15, W, 2.5),
+                            periods=20, phase=phase)
+    assert result.part_crossings.sum() > 0
+    for i, (x0, w) in enumerate(starts):
+        reference = sa.simulate(sa.Scene(FIG18, sa.StopZone(0.15, w, 2.5), x0=x0, phase=phase, periods=20))
+        assert abs(result.x_end[i] - reference.x_end) <= TOL and abs(result.v_end[i] - reference.v_end) <= TOL
+
+
 def test_parts_far_apart_each_move_as_alone():
     """Hypothesis: parts whose gaps never close exert no contact force (lam_i = 0 unless the gap is 0,
     docs/explanation/several-parts.md), so each moves as the single-part solver from its own start, to
@@ -465,6 +498,10 @@ def test_the_event_budget_ends_the_run_with_an_error():
     (lambda: simulate_parts(FIG18, [Part(0.0, width=W)], periods=0), ValueError, "periods"),
     (lambda: simulate_parts(FIG18, [Part(0.0, width=W)], periods=2.5), TypeError, "periods"),
     (lambda: simulate_parts(FIG18, [Part(0.0, width=W)], periods=1, max_events=0), ValueError, "max_events"),
+    (lambda: simulate_parts(FIG18, [Part(0.0, width=W)], periods=1, phase=1.0), ValueError, "phase"),
+    (lambda: simulate_parts(FIG18, [Part(0.0, width=W)], periods=1, phase=-0.1), ValueError, "phase"),
+    (lambda: simulate_parts(FIG18, [Part(0.0, width=W)], periods=1, phase=math.nan), ValueError, "phase"),
+    (lambda: simulate_parts(FIG18, [Part(0.0, width=W)], periods=1, phase="0.5"), TypeError, "phase"),
     (lambda: simulate_parts(sa.FourierProfile(1.0, [0.01], [0.0]), [Part(0.0, width=W)], periods=1), TypeError,
      "PiecewiseConstantProfile"),
     (lambda: simulate_parts(FIG18, [Part(0.0, width=W)], surface="uniform", periods=1), TypeError, "surface"),

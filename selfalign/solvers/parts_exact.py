@@ -92,7 +92,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..model.errors import check_integer
+from ..model.errors import check_integer, check_real
 from ..model.friction import StopZone, Uniform, transition_slope
 from ..model.parts import check_parts, check_restitution
 from ..model.profiles import PiecewiseConstantProfile
@@ -135,7 +135,8 @@ class PartsResult:
     Attributes
     ----------
     t_end : float
-        The time the run ended (periods times dt at the horizon; earlier at rest or on an error).
+        The time the run ended (the start phase times dt plus periods times dt at the horizon; earlier at rest
+        or on an error).
     x_end : numpy.ndarray
         Front positions of the parts at ``t_end``, shape (N,), rear-most first.
     v_end : numpy.ndarray
@@ -228,8 +229,9 @@ def _check_surface(surface):
     return surface
 
 
-def simulate_parts(profile, parts, *, surface=None, restitution=0.0, periods, max_events=MAX_EVENTS) -> PartsResult:
-    """Simulate several parts on one table exactly, event by event, from time 0 over whole periods.
+def simulate_parts(profile, parts, *, surface=None, restitution=0.0, periods, phase=0.0,
+                   max_events=MAX_EVENTS) -> PartsResult:
+    """Simulate several parts on one table exactly, event by event, over whole periods from a start phase.
 
     The model of :mod:`selfalign.model.parts` (eq. 6 per part, Coulomb friction, unilateral contacts and
     Newton's simultaneous impact law); the method, its events and tie rules are those of
@@ -241,7 +243,7 @@ def simulate_parts(profile, parts, *, surface=None, restitution=0.0, periods, ma
         The table motion, y'' constant on each piece (e.g. a :class:`~selfalign.ThreePhaseProfile`).
     parts : sequence of Part
         The parts (:class:`~selfalign.model.parts.Part`), the rear-most first, not overlapping; their x0,
-        v0 hold at time 0.
+        v0 hold at time ``phase`` times dt.
     surface : Uniform, StopZone or None, optional
         The friction field: uniform (mu_bar = 1, the default) or the paper's stop zone, whose ``x_mu`` and
         ``c_mu`` it uses (each part's transition spans its own width, eqs. 7-9; the zone's ``w`` is not
@@ -251,6 +253,9 @@ def simulate_parts(profile, parts, *, surface=None, restitution=0.0, periods, ma
         (plastic).
     periods : int
         Simulate this many periods, an integer >= 1.  Keyword only, required.
+    phase : float, optional
+        The start time as a fraction of the period, in [0, 1) (as ``Scene.phase``): the run starts at
+        tau0 = phase dt, and its periods end at tau0 + n dt.  Default 0.
     max_events : int, optional
         The event budget, an integer >= 1: the run ends with status ``"error"`` when it is used up.
 
@@ -263,11 +268,11 @@ def simulate_parts(profile, parts, *, surface=None, restitution=0.0, periods, ma
     ------
     TypeError
         If ``profile`` is not a PiecewiseConstantProfile, ``surface`` not Uniform, StopZone or None, ``parts``
-        not a sequence of Part, ``restitution`` not a real number, or ``periods`` or ``max_events`` not an
-        integer.
+        not a sequence of Part, ``restitution`` or ``phase`` not a real number, or ``periods`` or
+        ``max_events`` not an integer.
     ValueError
-        If ``parts`` is empty or two parts overlap (naming them), ``restitution`` lies outside [0, 1], or
-        ``periods`` or ``max_events`` is < 1.
+        If ``parts`` is empty or two parts overlap (naming them), ``restitution`` lies outside [0, 1],
+        ``phase`` outside [0, 1), or ``periods`` or ``max_events`` is < 1.
 
     Examples
     --------
@@ -303,7 +308,10 @@ def simulate_parts(profile, parts, *, surface=None, restitution=0.0, periods, ma
     if isinstance(max_events, bool) or not isinstance(max_events, numbers.Integral):
         raise TypeError(f"max_events must be a positive integer, got {max_events!r} ({type(max_events).__name__})")
     max_events = check_integer("max_events", max_events)
-    return _Chain(profile, parts, e, surface).run(periods, max_events)
+    phase = check_real("phase", phase)
+    if not 0.0 <= phase < 1.0:
+        raise ValueError(f"phase must lie in [0, 1) (fraction of the period), got {phase!r}")
+    return _Chain(profile, parts, e, surface, phase).run(periods, max_events)
 
 
 class _Chain:
