@@ -392,6 +392,33 @@ def test_a_mixed_chain_entering_a_stop_zone_stays_ordered_and_finite(gaps):
     assert min(gaps) >= -8 * np.finfo(float).eps
 
 
+@pytest.mark.parametrize("surface", [None, sa.StopZone(3.0, 0.05, 2.5)], ids=["uniform", "zone"])
+def test_a_chain_of_a_hundred_parts_keeps_its_invariants_and_restarts_from_its_end_state(surface, gaps):
+    """Hypothesis: the solver's invariants hold at scale: a chain of 100 unequal parts (half of them touching)
+    under the Fig. 16 profile (slips both ways: contacts close and open in every period), plastic contacts,
+    on a uniform surface and running into a stop zone, ends 50 periods with status horizon or rest, finite,
+    with no gap below -16 ulp of the positions (none below -8 ulp of the positions' scale after any event).
+    The run depends on its state only (positions and velocities: touching contacts are found again within
+    the contact tolerance, velocity runs pool again within the velocity floor, tie rules 4-5), so the same run
+    in two halves, the second started from the first's end state, ends where the whole run does, to 1e-12
+    (plastic contacts: no impact sequence amplifies rounding differences, as e > 0 can,
+    tests/test_parts_crosscheck.py)."""
+    parts = random_chain(7, 0.0, widths=(0.02, 0.08), touching=0.5, gap=0.05, factors=(0.8, 1.6), count=100)
+    result = simulate_parts(BACKWARD, parts, surface=surface, periods=50)
+    assert result.status in ("horizon", "rest") and result.impacts > 100 and result.openings > 100
+    assert np.all(np.isfinite(result.x_end)) and np.all(np.isfinite(result.v_end))
+    g = (result.x_end[1:] - [p.width for p in parts[1:]]) - result.x_end[:-1]
+    assert np.all(g >= -16 * np.spacing(np.maximum(np.abs(result.x_end[:-1]), np.abs(result.x_end[1:]))))
+    assert min(gaps) >= -8 * np.finfo(float).eps
+    first = simulate_parts(BACKWARD, parts, surface=surface, periods=25)
+    restart = [Part(x, v, width=p.width, mass=p.mass, friction_factor=p.friction_factor)
+               for x, v, p in zip(first.x_end, first.v_end, parts)]
+    second = simulate_parts(BACKWARD, restart, surface=surface, periods=25)
+    assert np.max(np.abs(second.x_end - result.x_end)) <= TOL and np.max(np.abs(second.v_end - result.v_end)) <= TOL
+    if surface is not None:
+        assert result.part_crossings.sum() > 0
+
+
 @pytest.mark.parametrize("surface, e", [(None, 0.5), (sa.StopZone(0.0, 0.05, 2.0), 0.0)], ids=["uniform", "zone"])
 def test_the_exact_solver_and_moreau_time_stepping_agree(surface, e):
     """Hypothesis: the exact solver and Moreau's midpoint time-stepping of the same model
