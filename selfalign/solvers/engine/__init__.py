@@ -22,12 +22,12 @@ Layout
 * :mod:`.python_stepper`: the driver's decisions for a stepper written in Python (ivp);
 * :mod:`.dense`: dense output of the recorded arcs.
 
-Every trajectory is one :data:`~selfalign.solvers.records.MEMBER_DTYPE` record (its inputs,
-working state and outcome); :func:`.drive.run_members` drives each member of an array of them,
-the same code for one trajectory (``selfalign.simulate``) and for a batch, so scalar and batch
-results are bit-identical by construction.  Positions are relative to an origin (x_mu on a stop
-zone, else x0), so that x_mu = 1e6 costs no accuracy in the zone; time is (period n, tau in
-[0, dt)), period boundaries at the start phase tau0.
+Every trajectory of one part is one :data:`~selfalign.solvers.records.MEMBER_DTYPE` record (its
+inputs, working state and outcome; several parts on one table: below); :func:`.drive.run_members`
+drives each member of an array of them, the same code for one trajectory (``selfalign.simulate``)
+and for a batch, so scalar and batch results are bit-identical by construction.  Positions are
+relative to an origin (x_mu on a stop zone, else x0), so that x_mu = 1e6 costs no accuracy in the
+zone; time is (period n, tau in [0, dt)), period boundaries at the start phase tau0.
 
 The stepper contract
 --------------------
@@ -75,10 +75,11 @@ and returns ``STOP_NONFINITE`` through :func:`.field.stop_nonfinite` with the st
 of the period that failed.  A stepper never decides an outcome itself, never allocates, and
 keeps the tie rules below.
 
-A new stepper (several parts, planar motion) is a module with its ``period_<name>`` function,
+A new stepper of one member (planar motion, say) is a module with its ``period_<name>`` function,
 a method code in :mod:`selfalign.solvers.records` and one line in :func:`.drive.step`, the
 dispatch; the driver specialises on the method code (a compile-time constant), so a run
-compiles only the stepper it uses.
+compiles only the stepper it uses.  A stepper whose state is not one member's, as that of
+several parts, has its own state arrays and run loop (below).
 
 The stepper of several parts
 ----------------------------
