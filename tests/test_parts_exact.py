@@ -509,6 +509,33 @@ def test_the_event_budget_ends_the_run_with_an_error():
     assert 5 <= result.events <= 6 and np.isfinite(result.x_end[0]) and result.t_end < 2 * FIG18.dt
 
 
+def test_the_compiled_event_loop_allocates_nothing():
+    """Hypothesis: the event loop runs in the arrays the caller allocated (selfalign.solvers.engine.parts), so
+    numba's runtime counts the same allocations for a run of 2 periods as for one of 50 with hundreds more events
+    (those of passing the arrays in), on a stop zone with impacts (e = 0.3); NUMBA_NRT_STATS=1 makes it count,
+    in a fresh process, after a first run has started the runtime."""
+    import subprocess
+    import sys
+
+    code = ("import selfalign as sa\n"
+            "from numba.core.runtime import rtsys\n"
+            "from selfalign.model.parts import Part\n"
+            "from selfalign.solvers import parts_exact as PE\n"
+            "profile = sa.ThreePhaseProfile(dt=1.0, dy=0.084, y2=2.3, y3=1.3)\n"
+            "parts = [Part(i * 0.0625, 0.1 * (i % 3), width=0.0625) for i in range(20)]\n"
+            "PE._Chain(profile, parts, 0.3, sa.StopZone(0.5, 0.05, 2.0)).run(1, 10)\n"
+            "for periods in (2, 50):\n"
+            "    chain = PE._Chain(profile, parts, 0.3, sa.StopZone(0.5, 0.05, 2.0))\n"
+            "    before = rtsys.get_allocation_stats().alloc\n"
+            "    result = chain.run(periods, 10 ** 7)\n"
+            "    print(result.events, rtsys.get_allocation_stats().alloc - before)\n")
+    env = {**__import__("os").environ, "NUMBA_NRT_STATS": "1"}
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=600)
+    assert out.returncode == 0, out.stderr
+    (few, allocated_few), (many, allocated_many) = [map(int, line.split()) for line in out.stdout.split("\n") if line]
+    assert many >= few + 300 and allocated_many == allocated_few
+
+
 @pytest.mark.parametrize("call, error, words", [
     (lambda: simulate_parts(FIG18, [], periods=1), ValueError, "at least one Part"),
     (lambda: simulate_parts(FIG18, [Part(0.0, width=W), Part(0.01, width=W)], periods=1), ValueError,
