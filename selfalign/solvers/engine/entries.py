@@ -1,8 +1,8 @@
 """The engine's entry points, the functions Python calls (:func:`selfalign.solvers.jit.kernel`
 returns this module): the driver for batches and recorded runs, one entry point per method
 (:data:`MEMBER_RUNS`, :data:`RECORDED_RUNS`, so that a call from Python reaches compiled code
-without specialising on the method at every call), the decisions a Python stepper calls, and
-dense output.
+without specialising on the method at every call), the run of several parts on one table
+(:func:`parts_run`), the decisions a Python stepper calls, and dense output.
 
 A new stepper registers here: its method code in the two tables, with one entry point each.
 """
