@@ -337,12 +337,15 @@ def _borrowed(array):
 
 @functools.cache
 def _stepper():
-    """:func:`_advance` compiled by numba (once per process), calling the model functions compiled
+    """:func:`_advance` compiled by numba, calling the model functions compiled
     (:func:`selfalign.solvers.jit.kernel` registers them: the friction formulas, the chain minimiser and its
-    helper)."""
-    from .jit import KernelError, kernel
+    helper), and kept in the kernel's cache directory (:func:`selfalign.solvers.jit.cache_dir`, keyed by the
+    content of the model's sources; numba itself checks this file's time stamp), so that a later process
+    loads it."""
+    from .jit import KernelError, cache_dir, kernel
 
     kernel()
+    import numba
     from numba import njit
     from numba.core.errors import NumbaError
     from numba.extending import overload
@@ -350,7 +353,12 @@ def _stepper():
     from .engine.compiled import borrowed
 
     overload(_borrowed)(lambda array: lambda array: borrowed(array))
-    compiled = njit(nogil=True, error_model="numpy")(_advance)
+    previous = numba.config.CACHE_DIR
+    numba.config.CACHE_DIR = str(cache_dir(numba.__version__))
+    try:
+        compiled = njit(nogil=True, error_model="numpy", cache=True)(_advance)
+    finally:
+        numba.config.CACHE_DIR = previous
 
     def advance(*args):
         try:
