@@ -189,6 +189,12 @@ QUANTITIES: dict[str, Quantity] = {
     "events/acc_before": Quantity("acceleration", "relative acceleration x'' just before each event"),
     "events/acc_after": Quantity("acceleration", "relative acceleration x'' just after each event"),
     "stats/cpu_time": Quantity("cpu_time", "CPU time of the simulate call", measurement=True),
+    "info/part_sticks": Quantity("count", "stick events of each part (several parts, rear-most first)"),
+    "info/part_slips": Quantity("count", "slip starts of each part (several parts, rear-most first)"),
+    "info/part_impacts": Quantity("count", "contact closings each part took part in (rear-most first)"),
+    "info/part_openings": Quantity("count", "contact openings each part took part in (rear-most first)"),
+    "info/part_crossings": Quantity("count", "crossings of each part's transition boundaries, x_mu and "
+                                             "x_mu + w (rear-most first)"),
     # accuracy study (selfalign.analysis.accuracy)
     "moreau/h": Quantity("time", "Moreau step h = dt / n of each run"),
     "moreau/steps_per_period": Quantity("count", "Moreau steps per period n of each run"),

@@ -104,6 +104,10 @@ from .tables import kernel_row
 
 #: Default event budget of :func:`simulate_parts`.
 MAX_EVENTS = 10_000_000
+#: The event kinds a :class:`PartsResult` counts in total (attributes of these names; ``events`` is their sum).
+PART_EVENTS = ("sticks", "slips", "impacts", "openings", "breaks")
+#: The event kinds it counts per part (attributes ``part_<kind>``, arrays of shape (N,)).
+PART_EVENTS_PER_PART = ("sticks", "slips", "impacts", "openings", "crossings")
 
 _EPS = np.finfo(float).eps
 
@@ -211,7 +215,7 @@ class PartsResult:
     @property
     def events(self) -> int:
         """All events counted, of every kind."""
-        return self.sticks + self.slips + self.impacts + self.openings + self.breaks
+        return sum(getattr(self, kind) for kind in PART_EVENTS)
 
 
 def _check_profile(profile) -> PiecewiseConstantProfile:
