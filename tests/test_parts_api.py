@@ -190,3 +190,17 @@ def test_events_per_part_reach_the_trajectory():
     assert traj.info["part_impacts"].shape == traj.info["part_crossings"].shape == (2,)
     apart = sa.simulate(sa.Scene(PROFILE, parts=PARTS, restitution=0.5, periods=6))
     assert apart.info["part_impacts"].tolist() == [apart.info["impacts"]] * 2 and apart.info["impacts"] >= 5
+
+
+def test_the_parts_held_for_good_are_flagged_part_by_part():
+    """Hypothesis (docs/explanation/several-parts.md, "Outcomes": the rest decision cluster by cluster): a part
+    whose factor k = 3 exceeds max|y''| = 2.2 is held for good where it starts; a part of factor 1 far
+    behind it walks on (not held); parts held for good when the whole run ends with REST are all flagged, and
+    a pushed pair resting in the stop zone (the pooled bound) is flagged as a whole."""
+    parts = [sa.Part(0.0, width=W), sa.Part(5.0, width=W, friction_factor=3.0)]
+    traj = sa.simulate(sa.Scene(PROFILE, parts=parts, periods=4))
+    assert traj.info["part_held"].tolist() == [False, True] and traj.x_end[1] == 5.0
+    pair = sa.simulate(sa.Scene(PROFILE, sa.StopZone(0.5, W, 2.5), parts=[sa.Part(0.35, width=W),
+                                                                          sa.Part(0.40, width=W)],
+                                until="rest", max_periods=400))
+    assert pair.status is sa.Status.REST and pair.info["part_held"].tolist() == [True, True]

@@ -195,6 +195,8 @@ QUANTITIES: dict[str, Quantity] = {
     "info/part_openings": Quantity("count", "contact openings each part took part in (rear-most first)"),
     "info/part_crossings": Quantity("count", "crossings of each part's transition boundaries, x_mu and "
                                              "x_mu + w (rear-most first)"),
+    "info/part_held": Quantity("boolean", "each part sticks for good at the end: its cluster is at rest and no "
+                                          "table acceleration of the profile moves it (rear-most first)"),
     # accuracy study (selfalign.analysis.accuracy)
     "moreau/h": Quantity("time", "Moreau step h = dt / n of each run"),
     "moreau/steps_per_period": Quantity("count", "Moreau steps per period n of each run"),

@@ -171,9 +171,9 @@ def simulate(scene: Scene, method: str | None = None, **options) -> Trajectory:
 
 def _simulate_parts(scene: Scene, method: str, given: dict) -> Trajectory:
     """A scene with several parts through its solver (:mod:`.parts_exact` or :mod:`.parts_moreau`), as a
-    Trajectory whose x_end, v_end have shape (N,); the exact solver's events per part are in ``info``
-    (``part_sticks``, ... of :class:`~.parts_exact.PartsResult`, arrays of shape (N,))."""
-    from .parts_exact import PART_EVENTS, PART_EVENTS_PER_PART, simulate_parts
+    Trajectory whose x_end, v_end have shape (N,); the exact solver's events and rest flags per part are in
+    ``info`` (``part_sticks``, ..., ``part_held`` of :class:`~.parts_exact.PartsResult`, arrays of shape (N,))."""
+    from .parts_exact import PART_EVENTS, PER_PART, simulate_parts
     from .parts_moreau import moreau_parts
 
     options = check_scene(scene, method, given)
@@ -184,7 +184,7 @@ def _simulate_parts(scene: Scene, method: str, given: dict) -> Trajectory:
                              periods=scene.horizon_periods, phase=scene.phase, max_events=options["max_events"])
         stats, used = {"events": run.events, "steps": 0}, {"max_events": options["max_events"]}
         info = {name: getattr(run, name) for name in PART_EVENTS}
-        info.update({"part_" + name: getattr(run, "part_" + name) for name in PART_EVENTS_PER_PART})
+        info.update({"part_" + name: getattr(run, "part_" + name) for name in PER_PART})
         reason = run.reason
         if reason.status is not Status.ERROR and scene.until == "periods":
             reason = Reason.PERIODS         # at rest for good before the horizon: nothing moves after it
