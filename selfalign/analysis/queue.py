@@ -112,9 +112,9 @@ def queue_parts(n: int, zone: StopZone, *, distance: float, spacing: float, fric
     --------
     >>> import selfalign as sa
     >>> from selfalign.analysis.queue import queue_parts
-    >>> parts = queue_parts(3, sa.StopZone(x_mu=0.5, w=0.05, c_mu=2.5), distance=0.2, spacing=0.1)
+    >>> parts = queue_parts(3, sa.StopZone(x_mu=0.5, w=0.05, c_mu=2.5), distance=0.25, spacing=0.1)
     >>> [round(p.x0, 6) for p in parts], parts[0].width
-    ([0.0, 0.15, 0.3], 0.05)
+    ([-0.05, 0.1, 0.25], 0.05)
     """
     if not isinstance(zone, StopZone):
         raise TypeError(f"zone must be a StopZone, got {type(zone).__name__}")
@@ -229,9 +229,9 @@ class QueueRun:
     >>> from selfalign.analysis.queue import queue_parts, run_queue
     >>> zone = sa.StopZone(x_mu=0.5, w=0.05, c_mu=2.5)
     >>> profile = sa.ThreePhaseProfile(dt=1.05, dy=0.084, y2=2.2, y3=0.9)
-    >>> run = run_queue(profile, zone, queue_parts(1, zone, distance=0.2, spacing=0.0), max_periods=100)
-    >>> run.status, run.periods, run.x.shape
-    ('rest', 4, (5, 1))
+    >>> run = run_queue(profile, zone, queue_parts(1, zone, distance=0.25, spacing=0.0), max_periods=100)
+    >>> run.status, run.x.shape == (run.periods + 1, 1)
+    ('rest', True)
     """
 
     status: str
@@ -287,9 +287,9 @@ def run_queue(profile: PiecewiseConstantProfile, zone: StopZone, parts, *, resti
     >>> from selfalign.analysis.queue import queue_parts, run_queue
     >>> zone = sa.StopZone(x_mu=0.5, w=0.05, c_mu=2.5)
     >>> profile = sa.ThreePhaseProfile(dt=1.05, dy=0.084, y2=2.2, y3=0.9)
-    >>> run = run_queue(profile, zone, queue_parts(2, zone, distance=0.2, spacing=0.05))
+    >>> run = run_queue(profile, zone, queue_parts(2, zone, distance=0.25, spacing=0.05))
     >>> run.status, run.x_end.round(9).tolist()
-    ('rest', [0.53, 0.58])
+    ('settled', [0.53, 0.58])
     """
     _check_setting(profile, zone)
     e = check_restitution(restitution)
@@ -320,7 +320,7 @@ def run_queue(profile: PiecewiseConstantProfile, zone: StopZone, parts, *, resti
 
 
 def single_rest(profile: PiecewiseConstantProfile, zone: StopZone, *, distance: float,
-                max_periods: int = 1000) -> float:
+                max_periods: int = 1000, settle: float = 1e-9) -> float:
     """Where one part, at rest ``distance`` before x_mu at t = 0, comes to rest (simulated, as the front part
     of a queue starts).
 
@@ -334,6 +334,8 @@ def single_rest(profile: PiecewiseConstantProfile, zone: StopZone, *, distance: 
         x_mu minus the part's front at t = 0.
     max_periods : int, optional
         The horizon.  Default 1000.
+    settle : float, optional
+        As :func:`run_queue` (a part that accumulates at x_stick_min settles).  Default 1e-9.
 
     Returns
     -------
@@ -350,10 +352,11 @@ def single_rest(profile: PiecewiseConstantProfile, zone: StopZone, *, distance: 
     >>> import selfalign as sa
     >>> from selfalign.analysis.queue import single_rest
     >>> profile = sa.ThreePhaseProfile(dt=1.05, dy=0.084, y2=2.2, y3=0.9)
-    >>> round(single_rest(profile, sa.StopZone(x_mu=0.5, w=0.05, c_mu=2.5), distance=0.2), 6)
-    0.541406
+    >>> round(single_rest(profile, sa.StopZone(x_mu=0.5, w=0.05, c_mu=2.5), distance=0.25), 9)
+    0.54
     """
-    run = run_queue(profile, zone, queue_parts(1, zone, distance=distance, spacing=0.0), max_periods=max_periods)
+    run = run_queue(profile, zone, queue_parts(1, zone, distance=distance, spacing=0.0), max_periods=max_periods,
+                    settle=settle)
     if run.status not in ("rest", "settled"):
         raise ValueError(f"one part {distance!r} before the zone does not come to rest within {max_periods} "
                          f"periods (status {run.status!r}): raise max_periods")
@@ -386,7 +389,7 @@ def spread_factors(n: int, spread: float) -> np.ndarray:
     --------
     >>> from selfalign.analysis.queue import spread_factors
     >>> spread_factors(3, 0.2).round(4).tolist()
-    [1.0175, 0.9263, 1.2]
+    [0.8008, 1.1351, 1.0]
     """
     n = check_integer("n", n)
     if isinstance(spread, bool) or not isinstance(spread, numbers.Real) or not 0.0 <= spread < 1.0:
@@ -436,7 +439,7 @@ def queue_study(profile: PiecewiseConstantProfile, zone: StopZone, *, n_max: int
     >>> from selfalign.analysis.queue import queue_study
     >>> profile = sa.ThreePhaseProfile(dt=1.05, dy=0.084, y2=2.2, y3=0.9)
     >>> study = queue_study(profile, sa.StopZone(x_mu=0.5, w=0.05, c_mu=2.5), n_max=2, spacings=[0.05],
-    ...                     restitutions=[0.0], spreads=[0.0], distance=0.2)
+    ...                     restitutions=[0.0], spreads=[0.0], distance=0.25)
     >>> study["front_at_single"].ravel().tolist(), study["x_end"][0, 0, 0, 1].round(9).tolist()
     ([True, False], [0.58, 0.53])
     """
@@ -450,7 +453,7 @@ def queue_study(profile: PiecewiseConstantProfile, zone: StopZone, *, n_max: int
         axes[name] = values
     for e in axes["restitution"]:
         check_restitution(float(e))
-    x_single = single_rest(profile, zone, distance=distance, max_periods=max_periods)
+    x_single = single_rest(profile, zone, distance=distance, max_periods=max_periods, settle=settle)
     shape = (*(a.size for a in axes.values()), n_max)
     per_part = {k: np.full((*shape, n_max), np.nan) for k in ("x_end", "error", "pooled", "friction_factor")}
     per_queue = {"status": np.zeros(shape, np.int64), "t_end": np.zeros(shape), "periods": np.zeros(shape, np.int64),
@@ -511,9 +514,9 @@ def aligned_times(run: QueueRun, tolerance: float) -> np.ndarray:
     >>> from selfalign.analysis.queue import aligned_times, queue_parts, run_queue
     >>> zone = sa.StopZone(x_mu=0.5, w=0.05, c_mu=2.5)
     >>> profile = sa.ThreePhaseProfile(dt=1.05, dy=0.084, y2=2.2, y3=0.9)
-    >>> run = run_queue(profile, zone, queue_parts(1, zone, distance=0.2, spacing=0.0))
+    >>> run = run_queue(profile, zone, queue_parts(1, zone, distance=0.25, spacing=0.0))
     >>> aligned_times(run, 0.005).round(2).tolist()
-    [3.15]
+    [5.25]
     """
     if not isinstance(run, QueueRun):
         raise TypeError(f"run must be a QueueRun, got {type(run).__name__}")

@@ -36,7 +36,8 @@ def _design_queue(design: dict, settings: dict) -> dict:
     profile, zone, si = scene.profile, scene.surface, scene.si
     n_max, distance = settings["n_max"], -scene.x0
     tolerance = spec["tolerance"] / si.L
-    x_single = single_rest(profile, zone, distance=distance, max_periods=settings["max_periods"])
+    x_single = single_rest(profile, zone, distance=distance, max_periods=settings["max_periods"],
+                           settle=settings["settle"])
     x_end, t_aligned = np.full((n_max, n_max), np.nan), np.full((n_max, n_max), np.nan)
     status = np.zeros(n_max, np.int64)
     for n in range(1, n_max + 1):
