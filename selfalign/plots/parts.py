@@ -57,6 +57,7 @@ def end_positions_panel(ax, queue: dict, *, spacing: int = 0, restitution: int =
     ax.plot(n, pooled[:, 0], "k_", markersize=12, label="pooled rest (front part)")
     ax.axhline((float(d["x_single"]) - x_mu) / w, color="k", linestyle="--", linewidth=0.8, label="single part")
     ax.set_ylim(min(-1.0, np.nanmin(x_end) - 0.3), np.nanmax(x_end) + 0.5)
+    ax.set_xticks(n)
     ax.set_xlabel("number of parts $N$")
     ax.set_ylabel(r"end position $(x_i - x_\mu)/w$")
     ax.set_title(f"gap {float(d['spacing'][spacing]) / w:g} w, e = {float(d['restitution'][restitution]):g}, "
@@ -65,8 +66,9 @@ def end_positions_panel(ax, queue: dict, *, spacing: int = 0, restitution: int =
     return ax.figure
 
 
-def front_error_panel(ax, queue: dict, *, spread: int = 0):
-    """The front part's error (x_front - x_single) / w against N, one line per spacing and e.
+def front_error_panel(ax, queue: dict, *, spread: int = -1):
+    """The front part's error (x_front - x_single) / w against N, one line per spacing and e at one spread, and
+    in black the first grid point (gap, e and spread of index 0).
 
     Parameters
     ----------
@@ -75,7 +77,7 @@ def front_error_panel(ax, queue: dict, *, spread: int = 0):
     queue : dict
         The ``queue`` group (read_h5 layout).
     spread : int
-        Index of the friction-factor spread.
+        Index of the friction-factor spread.  Default the last.
 
     Returns
     -------
@@ -91,10 +93,14 @@ def front_error_panel(ax, queue: dict, *, spread: int = 0):
     d, w = queue["datasets"], float(queue["attrs"]["w"])
     n, error = np.asarray(d["n"]), np.asarray(d["error"])[..., 0] / w
     styles = ("-", "--", ":", "-.")
+    ax.plot(n, error[0, 0, 0], color="k", linewidth=3, alpha=0.3,
+            label=f"gap {float(d['spacing'][0]) / w:g} w, e = {float(d['restitution'][0]):g}, "
+                  f"spread {float(d['spread'][0]):g}")
     for i, gap in enumerate(np.asarray(d["spacing"])):
         for j, e in enumerate(np.asarray(d["restitution"])):
             ax.plot(n, error[i, j, spread], marker="o", markersize=3, color=f"C{j}", linestyle=styles[i % 4],
                     label=f"gap {gap / w:g} w, e = {e:g}")
+    ax.set_xticks(n)
     ax.set_xlabel("number of parts $N$")
     ax.set_ylabel(r"front part's error $(x_{N-1} - x_\mathrm{single})/w$")
     ax.set_title(f"friction-factor spread {float(d['spread'][spread]):g}", fontsize="medium")
@@ -171,9 +177,10 @@ def design_panel(ax, design: dict):
     for k, rate in zip(n, np.asarray(d["throughput"])):
         ax.annotate(f"{rate:.2g}/s", (k, np.nanmax(x_end[k - 1]) + 0.3 * width), ha="center", fontsize="x-small")
     ax.set_ylim(-width, np.nanmax(x_end) + width)
+    ax.set_xticks(n)
     ax.set_xlabel("number of parts $N$")
     ax.set_ylabel("end position past the strip's edge [mm]")
-    ax.set_title(f"design {a['spec']} ({a['family']}), parts aligned per second", fontsize="medium")
+    ax.set_title(f"design {a['spec']}: parts aligned per second", fontsize="medium")
     ax.legend(fontsize="x-small", loc="upper left")
     return ax.figure
 
