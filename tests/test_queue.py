@@ -11,6 +11,8 @@ import math
 import numpy as np
 import pytest
 import yaml
+from figcheck import compare_figure_data, figure_data, load_reference
+from test_figures import ATOL, RTOL, assert_data_matches
 
 import selfalign as sa
 from selfalign.analysis.queue import (
@@ -25,6 +27,7 @@ from selfalign.analysis.queue import (
 from selfalign.io.hdf5 import read_dataset_attrs, read_h5, write_h5
 from selfalign.io.recording import Boxes, Recording, read_boxes, read_recording, write_recording
 from selfalign.model.parts import Part
+from selfalign.plots.parts import motion_figure, queue_figure
 from selfalign.solvers.parts_exact import simulate_parts
 from selfalign.stages.parts import queue_recording, queue_results
 
@@ -142,13 +145,20 @@ def _settings(repo):
     return settings
 
 
-def test_stage_writes_every_dataset_with_units_and_the_si_queue(repo, tmp_path):
+@pytest.fixture(scope="module")
+def stage_file(repo, tmp_path_factory):
+    """The stage's result file on shrunk settings (two parts) and the Fig. 18 design in SI."""
+    settings = _settings(repo)
+    zone = yaml.safe_load((repo / "workflow/config/config.yaml").read_text())["stages"]["accumulation"]["zone"]
+    return write_h5(tmp_path_factory.mktemp("parts") / "queue.h5", *queue_results(settings, zone, _design_result()),
+                    config=settings)
+
+
+def test_stage_writes_every_dataset_with_units_and_the_si_queue(stage_file):
     """Hypothesis: the stage's file documents every dataset (units, description); the SI queue of the design
     with the Fig. 18 shape rests as in model units: one part at x_stick_min, 0.8 of the 2 mm width past the
     strip's edge (eq. 41), two parts with the front one 0.8 width further (1e-12 relative)."""
-    settings = _settings(repo)
-    zone = yaml.safe_load((repo / "workflow/config/config.yaml").read_text())["stages"]["accumulation"]["zone"]
-    path = write_h5(tmp_path / "queue.h5", *queue_results(settings, zone, _design_result()), config=settings)
+    path = stage_file
     attrs = read_dataset_attrs(path)
     assert attrs and all(a.get("units") and a.get("description") for a in attrs.values())
     assert attrs["design_queue/throughput"]["units"] == "1/s (SI)"
@@ -159,15 +169,12 @@ def test_stage_writes_every_dataset_with_units_and_the_si_queue(repo, tmp_path):
     assert d["throughput"][0] == pytest.approx(1.0 / d["t_aligned"][0, 0], rel=EXACT)
 
 
-def test_recording_holds_one_box_per_part_at_every_period_end(repo, tmp_path):
+def test_recording_holds_one_box_per_part_at_every_period_end(stage_file, tmp_path):
     """Hypothesis: the recording of a queue shows each part as a box of its width whose centre is its front
     minus half its width at every period end, over the zone's box (compared by content: recordings carry
     random chunk ids)."""
-    settings = _settings(repo)
-    result = {"groups": {}}
-    zone = {"w": 0.05, "c_mu": 2.5}
-    datasets, attrs, groups = queue_results(settings, zone, _design_result())
-    result["groups"] = groups
+    result = read_h5(stage_file)
+    groups = result["groups"]
     path = write_recording(tmp_path / "queue.rrd", queue_recording(result))
     boxes = read_boxes(path)
     t, x = groups["queue_motion"]["datasets"]["t"], groups["queue_motion"]["datasets"]["x"]
@@ -208,3 +215,26 @@ def test_spread_factors_keep_the_front_part_nominal():
     """Hypothesis: the spread pattern keeps the front part's factor 1 and the others in [1 - s, 1 + s]."""
     k = spread_factors(6, 0.2)
     assert k[-1] == 1.0 and np.all(np.abs(k - 1) <= 0.2) and not math.isclose(k[0], 1.0)
+
+
+@pytest.mark.parametrize("name", ["parts_queue", "parts_motion"])
+def test_figures_show_the_result(repo, stage_file, update_figure_refs, name):
+    """Hypothesis: the figures draw the numbers of the result they are given: those of
+    tests/figure_refs/<name>.json (the shrunk stage of this module), and panel (a) marks the front part of
+    one and of two parts at the result's end positions in widths past x_mu (0.8 and 1.6, eq. 41 and the
+    pooled rest)."""
+    result = read_h5(stage_file)
+    fig = (queue_figure if name == "parts_queue" else motion_figure)(result)
+    if name == "parts_queue":
+        front = [line for line in fig.axes[0].lines if line.get_label() == "front part"][0]
+        np.testing.assert_allclose(front.get_ydata(), [0.8, 1.6], rtol=0, atol=1e-9)
+    assert_data_matches(repo, fig, name, update_figure_refs)
+
+
+def test_figure_comparison_catches_a_change(repo, stage_file):
+    """Hypothesis: the figure check can fail: the front part's end 1 % further is reported."""
+    result = read_h5(stage_file)
+    result["groups"]["queue"]["datasets"]["x_end"] = result["groups"]["queue"]["datasets"]["x_end"] * 1.01
+    diffs = compare_figure_data(figure_data(queue_figure(result)),
+                                load_reference(repo / "tests/figure_refs/parts_queue.json"), rtol=RTOL, atol=ATOL)
+    assert any(d.startswith("figure.axes[0].lines") for d in diffs), diffs
