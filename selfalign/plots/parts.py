@@ -42,9 +42,19 @@ def end_positions_panel(ax, queue: dict, *, spacing: int = 0, restitution: int =
 
     Examples
     --------
+    One part at x_stick_min and two at the pooled rest of the Fig. 18 setting (x_mu = 0.5, w = 0.05):
+
+    >>> import numpy as np
+    >>> from matplotlib.figure import Figure
     >>> from selfalign.plots.parts import end_positions_panel
-    >>> end_positions_panel.__name__
-    'end_positions_panel'
+    >>> x_end = np.array([[[[[0.54, np.nan], [0.58, 0.53]]]]])
+    >>> queue = {"datasets": {"n": np.array([1, 2]), "x_end": x_end, "pooled": x_end, "x_single": 0.54,
+    ...                       "spacing": [0.05], "restitution": [0.0], "spread": [0.0]},
+    ...          "attrs": {"x_mu": 0.5, "w": 0.05}}
+    >>> ax = Figure().subplots()
+    >>> fig = end_positions_panel(ax, queue)
+    >>> ax.lines[0].get_ydata().round(6).tolist()
+    [0.8, 1.6]
     """
     d, a = queue["datasets"], queue["attrs"]
     x_mu, w = float(a["x_mu"]), float(a["w"])
@@ -86,9 +96,15 @@ def front_error_panel(ax, queue: dict, *, spread: int = -1):
 
     Examples
     --------
+    >>> import numpy as np
+    >>> from matplotlib.figure import Figure
     >>> from selfalign.plots.parts import front_error_panel
-    >>> front_error_panel.__name__
-    'front_error_panel'
+    >>> queue = {"datasets": {"n": np.array([1, 2]), "error": np.array([[[[[0.0, np.nan], [0.04, -0.01]]]]]),
+    ...                       "spacing": [0.05], "restitution": [0.0], "spread": [0.0]}, "attrs": {"w": 0.05}}
+    >>> ax = Figure().subplots()
+    >>> fig = front_error_panel(ax, queue)
+    >>> ax.lines[-1].get_ydata().round(6).tolist()
+    [0.0, 0.8]
     """
     d, w = queue["datasets"], float(queue["attrs"]["w"])
     n, error = np.asarray(d["n"]), np.asarray(d["error"])[..., 0] / w
@@ -125,9 +141,14 @@ def motion_panel(ax, motion: dict):
 
     Examples
     --------
+    >>> import numpy as np
+    >>> from matplotlib.figure import Figure
     >>> from selfalign.plots.parts import motion_panel
-    >>> motion_panel.__name__
-    'motion_panel'
+    >>> motion = {"datasets": {"t": np.arange(3.0), "x": np.array([[0.0, 0.1], [0.1, 0.15], [0.12, 0.17]])},
+    ...           "attrs": {"x_mu": 0.1, "w": 0.05, "spacing": 0.05, "restitution": 0.0}}
+    >>> ax = Figure().subplots()
+    >>> motion_panel(ax, motion) is ax.figure, len(ax.lines)
+    (True, 2)
     """
     d, a = motion["datasets"], motion["attrs"]
     x_mu, w = float(a["x_mu"]), float(a["w"])
@@ -163,9 +184,16 @@ def design_panel(ax, design: dict):
 
     Examples
     --------
+    >>> import numpy as np
+    >>> from matplotlib.figure import Figure
     >>> from selfalign.plots.parts import design_panel
-    >>> design_panel.__name__
-    'design_panel'
+    >>> design = {"datasets": {"n": np.array([1]), "x_end": np.array([[7.25e-4]]), "width": 2e-3,
+    ...                        "x_single": 7.25e-4, "throughput": np.array([0.96])},
+    ...           "attrs": {"spec": "smd_steel_table"}}
+    >>> ax = Figure().subplots()
+    >>> fig = design_panel(ax, design)
+    >>> ax.texts[0].get_text()
+    '0.96/s'
     """
     d, a = design["datasets"], design["attrs"]
     n, x_end = np.asarray(d["n"]), 1e3 * np.asarray(d["x_end"])

@@ -79,9 +79,25 @@ def queue_results(settings: dict, zone: dict, design: dict) -> tuple[dict, dict,
 
     Examples
     --------
+    One part, on the Fig. 18 setting and on a design of the Fig. 18 shape for a 2 mm part with mu = 0.2 (the
+    workflow reads the design stage's result instead):
+
+    >>> from selfalign.model.units import SIScale
     >>> from selfalign.stages.parts import queue_results
-    >>> queue_results  # doctest: +ELLIPSIS
-    <function queue_results at 0x...>
+    >>> si = SIScale(mu=0.2, g=9.81, L=0.002)
+    >>> a = si.unit("acceleration")
+    >>> design = {"attrs": {"spec": {"name": "demo", "mu": 0.2, "g": 9.81, "width": 0.002, "distance": 0.01,
+    ...                              "tolerance": 1e-4}},
+    ...           "groups": {"profile": {"datasets": {"period": 1.05 * si.T, "stroke": 0.084 * si.L, "y2": 2.2 * a,
+    ...                                               "y3": 0.9 * a, "c_mu": 2.5}},
+    ...                      "performance": {"datasets": {"t_rest": 1.0}}}}
+    >>> settings = {"setting": {"dt": 1.05, "dy": 0.084, "y2": 2.2, "y3": 0.9}, "x_mu": 0.5, "distance": 0.25,
+    ...             "n_max": 1, "spacings": [0.0], "restitutions": [0.0], "spreads": [0.0], "max_periods": 1000,
+    ...             "settle": 1e-12, "settle_periods": 10, "motion": {"n": 1, "spacing": 0.0, "restitution": 0.0},
+    ...             "design": {"n_max": 1, "spacing_widths": 1.0, "max_periods": 1000, "settle": 1e-12}}
+    >>> datasets, attrs, groups = queue_results(settings, {"w": 0.05, "c_mu": 2.5}, design)
+    >>> sorted(groups), round(float(groups["design_queue"]["datasets"]["x_single"]) * 1e3, 6)
+    (['design_queue', 'queue', 'queue_motion'], 1.6)
     """
     profile, stop = _setting(settings, zone)
     study = queue_study(profile, stop, n_max=settings["n_max"], spacings=settings["spacings"],
@@ -125,9 +141,15 @@ def queue_recording(result: dict) -> Recording:
 
     Examples
     --------
+    >>> import numpy as np
     >>> from selfalign.stages.parts import queue_recording
-    >>> queue_recording  # doctest: +ELLIPSIS
-    <function queue_recording at 0x...>
+    >>> attrs = {"x_mu": 0.5, "w": 0.05, "c_mu": 2.5, "spacing": 0.05, "restitution": 0.0, "dt": 1.05, "dy": 0.084,
+    ...          "y2": 2.2, "y3": 0.9, "status": "settled"}
+    >>> motion = {"datasets": {"t": np.array([0.0, 1.05]), "x": np.array([[0.2, 0.3], [0.25, 0.35]]),
+    ...                        "width": np.array([0.05, 0.05])}, "attrs": attrs}
+    >>> recording = queue_recording({"groups": {"queue_motion": motion}})
+    >>> recording.boxes["queue/parts"].centres.round(3).tolist(), sorted(recording.series)
+    ([[0.175, 0.275], [0.225, 0.325]], ['front/part_0', 'front/part_1'])
     """
     motion = result["groups"]["queue_motion"]
     t, x, width = (np.asarray(motion["datasets"][k], float) for k in ("t", "x", "width"))
