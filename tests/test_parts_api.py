@@ -67,7 +67,7 @@ def test_scene_files_take_parts_and_round_trip():
     ({"parts": [sa.Part(0.0, width=W), sa.Part(0.02, width=W)]}, r"parts\[1\] overlaps parts\[0\]"),
     ({"restitution": 1.5}, r"restitution must be a number in \[0, 1\]"),
     ({"parts": None, "restitution": 0.5}, "acts between parts"),
-    ({"friction": sa.FrictionLaw("static_kinetic", 1.3)}, "Coulomb friction only"),
+    ({"friction": sa.FrictionLaw("stribeck", 1.3, v_s=0.1)}, "not Stribeck"),
     ({"record": sa.Record(events=True)}, "keeps the end state only"),
     ({"surface": sa.StopZone(0.5, 0.1, 2.5)}, r"parts\[0\].width = 0.05: on a stop zone"),
 ])
@@ -204,3 +204,17 @@ def test_the_parts_held_for_good_are_flagged_part_by_part():
                                                                           sa.Part(0.40, width=W)],
                                 until="rest", max_periods=400))
     assert pair.status is sa.Status.REST and pair.info["part_held"].tolist() == [True, True]
+
+
+def test_a_scene_with_parts_takes_static_friction_for_both_solvers():
+    """A scene with parts and static/kinetic friction (Scene(friction=...), a scene file's friction block)
+    reaches both solvers of several parts: simulate gives simulate_parts' and moreau_parts' end states bit for
+    bit, and the scene round-trips through its file layout."""
+    static = sa.FrictionLaw("static_kinetic", 1.3)
+    scene = sa.Scene(PROFILE, parts=PARTS, restitution=0.5, periods=6, friction=static)
+    assert sa.scene_from_dict(scene.to_dict()).to_dict() == scene.to_dict()
+    direct = simulate_parts(PROFILE, PARTS, restitution=0.5, periods=6, friction=static)
+    assert sa.simulate(scene).x_end.tolist() == direct.x_end.tolist()
+    moreau = moreau_parts(PROFILE, PARTS, restitution=0.5, periods=6, steps_per_period=400, friction=static)
+    assert sa.simulate(scene, "moreau", steps_per_period=400).x_end.tolist() == moreau.x_end.tolist()
+    assert direct.x_end.tolist() != simulate_parts(PROFILE, PARTS, restitution=0.5, periods=6).x_end.tolist()

@@ -567,3 +567,36 @@ def test_bad_input_is_refused_naming_the_parameter(call, error, words):
     with pytest.raises(error) as info:
         call()
     assert words in str(info.value)
+
+
+#: Static/kinetic friction, mu_s = 1.3 mu_k (Sect. 8, recommendation 3).
+STATIC = sa.FrictionLaw("static_kinetic", 1.3)
+
+
+@pytest.mark.parametrize("profile", [FIG18, BACKWARD], ids=["fig18", "backward"])
+@pytest.mark.parametrize("surface", [sa.Uniform(), sa.StopZone(0.3, 0.05, 2.5)], ids=["uniform", "zone"])
+def test_static_friction_one_part_and_parts_far_apart_equal_the_single_part_solver(profile, surface):
+    """Hypothesis (docs/explanation/several-parts.md, "Static/kinetic friction"; with one part the mode
+    selection static_kinetic_minimiser is the single part's rule: stick while |y''| <= r k mu_bar, slip with
+    the kinetic k mu_bar): one part, and three parts 5 apart, under r = 1.3 end as selfalign.simulate with the
+    same friction law, each, to 1e-12 after 20 periods, on a uniform surface and a stop zone (where the static
+    bound moves them by 1e-3 to 0.34 against Coulomb friction; not on Fig. 18's uniform surface, where a part
+    sticks under y'' = 0.9 and slips under 2.2 either way)."""
+    starts = [(0.0, 0.0), (5.0, -0.3), (10.0, 0.2)]
+    result = simulate_parts(profile, [Part(x0, v0, width=0.05) for x0, v0 in starts], surface=surface,
+                            periods=20, friction=STATIC)
+    for (x0, v0), x, v in zip(starts, result.x_end, result.v_end):
+        alone = sa.simulate(sa.Scene(profile, surface, x0=x0, v0=v0, periods=20, friction=STATIC))
+        assert abs(x - alone.x_end) <= TOL and abs(v - alone.v_end) <= TOL, (x0, x, alone.x_end)
+    if profile is BACKWARD or isinstance(surface, sa.StopZone):     # on Fig. 18's uniform surface it does not
+        coulomb = simulate_parts(profile, [Part(x0, v0, width=0.05) for x0, v0 in starts], surface=surface,
+                                 periods=20)
+        assert np.max(np.abs(coulomb.x_end - result.x_end)) > 1e-3     # the static bound changed the motion
+
+
+def test_stribeck_friction_is_refused_for_several_parts():
+    """Bad input: Stribeck's law is refused, naming it, before any run."""
+    with pytest.raises(ValueError, match="not Stribeck"):
+        simulate_parts(FIG18, [Part(0.0, width=W)], periods=1, friction=sa.FrictionLaw("stribeck", 1.3, v_s=0.1))
+    with pytest.raises(TypeError, match="friction must be a FrictionLaw"):
+        simulate_parts(FIG18, [Part(0.0, width=W)], periods=1, friction="static")

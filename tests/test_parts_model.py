@@ -13,11 +13,13 @@ import pytest
 from selfalign.model.parts import (
     CHAIN_WORK_ROWS,
     IMPACT_WORK_ROWS,
+    STATIC_WORK_ROWS,
     Part,
     chain_minimiser,
     check_parts,
     check_restitution,
     impact_velocities,
+    static_kinetic_minimiser,
 )
 
 #: Rounding allowance of the optimality conditions, relative to the scale of the forces involved.
@@ -200,3 +202,41 @@ def test_part_checks_name_what_is_wrong():
             check_restitution(bad)
     with pytest.raises(TypeError, match="restitution"):
         check_restitution("1")
+
+
+def static_solve(b, m, s, ratio, may_stick, lower, joined):
+    out = np.full(len(b), np.nan)
+    static_kinetic_minimiser(np.asarray(b, float), np.asarray(m, float), np.asarray(s, float), ratio,
+                             np.asarray(may_stick, bool), np.asarray(lower, float), np.asarray(joined, bool), out,
+                             np.full((STATIC_WORK_ROWS, len(b)), np.nan))
+    return out
+
+
+def test_static_kinetic_selection_with_ratio_one_is_the_chain_minimiser():
+    """Hypothesis (docs/explanation/several-parts.md, "Static/kinetic friction": with r = 1 the law is
+    Coulomb's): on 300 random chains the static/kinetic mode selection with r = 1 is the chain minimiser, bit
+    for bit."""
+    rng = np.random.default_rng(7)
+    for _ in range(300):
+        b, m, s, lower, joined = random_problem(rng, int(rng.integers(1, 12)))
+        assert static_solve(b, m, s, 1.0, np.ones(len(b), bool), lower, joined).tolist() == \
+            solve(b, m, s, lower, joined).tolist()
+
+
+@pytest.mark.parametrize("push, expected", [(1.2, 0.0), (1.3, 0.0), (1.5, 0.5), (-1.4, -0.4)])
+def test_one_part_sticks_under_the_static_bound_and_slips_with_the_kinetic_one(push, expected):
+    """Hypothesis (eq. 2 with mu_s = r mu_k: a part at rest sticks while |y''| <= r mu_bar, else slips with
+    x'' = -y'' - sign mu_bar): r = 1.3, mu_bar = 1."""
+    assert static_solve([push], [1.0], [1.0], 1.3, [True], [], []).tolist() == [pytest.approx(expected, abs=1e-15)]
+
+
+def test_a_pair_at_rest_breaks_away_together_with_kinetic_friction():
+    """Hypothesis (the rule of static_kinetic_minimiser): two touching equal parts pushed by y'' = -1.4 stick
+    where their pooled static bound r (k_0 + k_1) / 2 reaches 1.4 (k = (1, 1.2), r = 1.3: 1.43) and both slip
+    forward once it does not (k = (1, 1), r = 1.3: 1.3), then at 1.4 - 1 = 0.4 each: the kinetic friction,
+    not the static bound's 0.1; a part that is not at rest (may_stick False) keeps its kinetic bound."""
+    assert static_solve([1.4, 1.4], [1, 1], [1.0, 1.2], 1.3, [True, True], [0.0], [True]).tolist() == [0.0, 0.0]
+    out = static_solve([1.4, 1.4], [1, 1], [1.0, 1.0], 1.3, [True, True], [0.0], [True])
+    assert out == pytest.approx([0.4, 0.4], abs=1e-15)
+    moving = static_solve([1.4], [1.0], [1.0], 1.3, [False], [], [])
+    assert moving == pytest.approx([0.4], abs=1e-15)

@@ -282,7 +282,7 @@ GOOD = {"profile": PROFILE, "parts": CHASE, "periods": 1}
     ({"periods": 10**8, "steps_per_period": 1000}, ValueError, "1e+10"),
     ({"sample_every": 0}, ValueError, "sample_every"),
     ({"sample_every": 1, "periods": 10**6, "steps_per_period": 10**3}, ValueError, "GiB"),
-    ({"friction": sa.FrictionLaw("static_kinetic", 1.3)}, ValueError, "Coulomb"),
+    ({"friction": sa.FrictionLaw("stribeck", 1.3, v_s=0.1)}, ValueError, "not Stribeck"),
     ({"friction": "coulomb"}, TypeError, "friction must be"),
 ])
 def test_bad_input_is_refused_before_any_work(change, error, words, monkeypatch):

@@ -28,6 +28,7 @@ from collections.abc import Sequence
 from dataclasses import KW_ONLY, dataclass
 
 from .errors import check_finite, check_positive, check_real
+from .friction import FrictionLaw
 from .registry import formula, kernel_helper
 
 #: Touching parts may overlap by this many ulp of their positions and widths (rounding of computed positions).
@@ -36,6 +37,8 @@ OVERLAP_ULPS = 4
 CHAIN_WORK_ROWS = 6
 #: Rows of the scratch array :func:`impact_velocities` needs (shape (IMPACT_WORK_ROWS, N)).
 IMPACT_WORK_ROWS = CHAIN_WORK_ROWS + 2
+#: Rows of the scratch array :func:`static_kinetic_minimiser` needs (shape (STATIC_WORK_ROWS, N)).
+STATIC_WORK_ROWS = CHAIN_WORK_ROWS + 3
 
 
 @dataclass(frozen=True)
@@ -158,6 +161,44 @@ def check_parts(parts) -> tuple[Part, ...]:
                              f"front x0 = {parts[i].x0:g} of parts[{i}] (parts are listed rear to front and may "
                              f"touch, not overlap)")
     return tuple(parts)
+
+
+def parts_friction_ratio(friction) -> float:
+    """The ratio r = mu_s / mu_k of a friction law of several parts: 1 for Coulomb's law (and None, its
+    default), r for static/kinetic friction.
+
+    Parameters
+    ----------
+    friction : FrictionLaw or None
+        The law (:class:`~selfalign.FrictionLaw`).
+
+    Returns
+    -------
+    float
+        r >= 1.
+
+    Raises
+    ------
+    TypeError
+        If ``friction`` is not a FrictionLaw or None.
+    ValueError
+        If it is Stribeck's law: no solver of several parts simulates it.
+
+    Examples
+    --------
+    >>> import selfalign as sa
+    >>> from selfalign.model.parts import parts_friction_ratio
+    >>> parts_friction_ratio(None), parts_friction_ratio(sa.FrictionLaw("static_kinetic", 1.3))
+    (1.0, 1.3)
+    """
+    if friction is None:
+        return 1.0
+    if not isinstance(friction, FrictionLaw):
+        raise TypeError(f"friction must be a FrictionLaw or None, got {type(friction).__name__}")
+    if friction.kind == "stribeck":
+        raise ValueError("friction: several parts are simulated under Coulomb or static/kinetic friction, not "
+                         "Stribeck's law (kind 'stribeck')")
+    return float(friction.ratio)
 
 
 def check_restitution(e) -> float:
@@ -349,3 +390,71 @@ def impact_velocities(v, m, e, joined, out, work) -> None:
         s[i] = 0.0
         lower[i] = e * max(v[i] - v[i + 1], 0.0) if i < n - 1 and joined[i] else 0.0
     chain_minimiser(v, m, s, lower[:max(n - 1, 0)], joined, out, work[:CHAIN_WORK_ROWS])
+
+
+@formula(unnumbered="the mode selection of several parts under static/kinetic friction (eq. 2 with mu_s = r mu_k "
+                    "per part): a part at rest slips only where its static bound is exceeded, then with kinetic "
+                    "friction; beyond the paper (Sect. 8, recommendations 3 and 5)")
+def static_kinetic_minimiser(b, m, s, ratio, may_stick, lower, joined, out, work) -> None:
+    """Write into ``out`` the accelerations (or Moreau's velocities) of touching parts under static/kinetic
+    friction: static bound r s_i for the parts that may stick, kinetic bound s_i once they slip.
+
+    The rule (docs/explanation/several-parts.md, "Static/kinetic friction"), as the single part's (a part
+    at rest sticks while its static bound holds it, and slips with kinetic friction once it does not): the
+    parts that may stick get the static bound r s_i and every other part its kinetic s_i, and
+    :func:`chain_minimiser` decides; each part that may stick but does not (out_i != 0) slips from then on
+    in the direction of out_i, with the kinetic friction fixed in that direction (b_i - sign(out_i) s_i,
+    no bound), and the chain is decided again, until no further part starts to slip (at most N + 1
+    solves: the set of slipping parts only grows).  A part that slips pushes its neighbours harder than
+    the static problem said (its friction fell from r s_i to s_i), which is what can set them slipping too.
+    With r = 1 it is :func:`chain_minimiser` itself.
+
+    Parameters
+    ----------
+    b, m, s : numpy.ndarray
+        Float arrays of length N: targets, weights (> 0) and kinetic friction bounds (>= 0).
+    ratio : float
+        r = mu_s / mu_k >= 1.
+    may_stick : numpy.ndarray
+        Length N, truthy where the static bound applies (a part at rest; in Moreau's step, a part whose
+        velocity would reach or cross zero within the step).
+    lower, joined, out
+        As for :func:`chain_minimiser`.
+    work : numpy.ndarray
+        Float scratch array of shape (STATIC_WORK_ROWS, N).
+
+    Examples
+    --------
+    One part at rest under y'' = -1.2 with mu_k = 1 and r = 1.3 sticks (1.2 <= 1.3); under y'' = -1.5 it
+    slips forward with kinetic friction, at 1.5 - 1 = 0.5:
+
+    >>> import numpy as np
+    >>> from selfalign.model.parts import STATIC_WORK_ROWS, static_kinetic_minimiser
+    >>> out, work = np.empty(1), np.empty((STATIC_WORK_ROWS, 1))
+    >>> for push in (1.2, 1.5):
+    ...     static_kinetic_minimiser(np.array([push]), np.ones(1), np.ones(1), 1.3, np.array([True]), np.zeros(0),
+    ...                              np.zeros(0, dtype=bool), out, work)
+    ...     print(round(float(out[0]), 12))
+    0.0
+    0.5
+    """
+    if ratio == 1.0:
+        chain_minimiser(b, m, s, lower, joined, out, work[:CHAIN_WORK_ROWS])
+        return
+    n = b.size
+    direction, target, bound = work[CHAIN_WORK_ROWS], work[CHAIN_WORK_ROWS + 1], work[CHAIN_WORK_ROWS + 2]
+    for i in range(n):
+        direction[i] = 0.0
+        target[i] = b[i]
+        bound[i] = ratio * s[i] if may_stick[i] else s[i]
+    while True:
+        chain_minimiser(target, m, bound, lower, joined, out, work[:CHAIN_WORK_ROWS])
+        grew = False
+        for i in range(n):
+            if may_stick[i] and direction[i] == 0.0 and out[i] != 0.0:
+                direction[i] = 1.0 if out[i] > 0.0 else -1.0
+                target[i] = b[i] - direction[i] * s[i]
+                bound[i] = 0.0
+                grew = True
+        if not grew:
+            return

@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 
 from .errors import SceneError, check_finite, check_integer
 from .friction import FrictionLaw, StopZone, Uniform
-from .parts import Part, check_parts, check_restitution
+from .parts import Part, check_parts, check_restitution, parts_friction_ratio
 from .profiles import Profile
 from .units import SIScale
 
@@ -158,8 +158,9 @@ class Scene:
         Several parts on the table instead of the paper's one (:class:`~selfalign.Part`, the rear-most first,
         not overlapping; docs/explanation/several-parts.md): each carries its own start x0, v0, so the
         scene's ``x0`` and ``v0`` stay 0, and on a stop zone each part's width must be the zone's body width
-        ``w``.  The friction law is Coulomb's, and nothing is recorded besides the end state (and, with
-        the exact solver, the events per part).  Stored as a tuple.  Default None: the paper's single part.
+        ``w``.  The friction law is Coulomb's or static/kinetic, and nothing is recorded besides the end
+        state (and, with the exact solver, the events per part).  Stored as a tuple.  Default None: the
+        paper's single part.
     restitution : float, optional
         Newton's coefficient of restitution e in [0, 1] of the contacts between ``parts`` (0 plastic, 1
         elastic).  Default 0.
@@ -275,9 +276,10 @@ class Scene:
         if self.x0 != 0.0 or self.v0 != 0.0:
             raise SceneError("x0, v0: with parts each Part carries its own start (Part(x0, v0, ...)); leave the "
                              "scene's x0 and v0 at 0")
-        if self.friction.kind != "coulomb":
-            raise SceneError(f"friction: a scene with parts simulates Coulomb friction only, got "
-                             f"{self.friction.kind!r}")
+        try:
+            parts_friction_ratio(self.friction)
+        except ValueError as exc:
+            raise SceneError(str(exc)) from None
         if self.record != Record():
             raise SceneError("record: a scene with parts keeps the end state only (Record())")
         if isinstance(self.surface, StopZone):

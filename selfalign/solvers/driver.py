@@ -181,7 +181,8 @@ def _simulate_parts(scene: Scene, method: str, given: dict) -> Trajectory:
     cpu0 = time.process_time()
     if method == "exact":
         run = simulate_parts(scene.profile, scene.parts, surface=scene.surface, restitution=scene.restitution,
-                             periods=scene.horizon_periods, phase=scene.phase, max_events=options["max_events"])
+                             periods=scene.horizon_periods, phase=scene.phase, friction=scene.friction,
+                             max_events=options["max_events"])
         stats, used = {"events": run.events, "steps": 0}, {"max_events": options["max_events"]}
         info = {name: getattr(run, name) for name in PART_EVENTS}
         info.update({"part_" + name: getattr(run, "part_" + name) for name in PER_PART})
@@ -193,7 +194,8 @@ def _simulate_parts(scene: Scene, method: str, given: dict) -> Trajectory:
     else:
         steps, h = moreau.moreau_step(dt, options)
         run = moreau_parts(scene.profile, scene.parts, surface=scene.surface, restitution=scene.restitution,
-                           periods=scene.horizon_periods, phase=scene.phase, steps_per_period=steps)
+                           periods=scene.horizon_periods, phase=scene.phase, steps_per_period=steps,
+                           friction=scene.friction)
         stats, used, info = {"events": 0, "steps": run.steps}, {"steps_per_period": steps, "h": h}, {
             "max_overlap": run.max_overlap}
         reason = Reason.PERIODS

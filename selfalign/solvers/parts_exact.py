@@ -94,7 +94,7 @@ import numpy as np
 
 from ..model.errors import check_integer, check_real
 from ..model.friction import StopZone, Uniform, transition_slope
-from ..model.parts import check_parts, check_restitution
+from ..model.parts import check_parts, check_restitution, parts_friction_ratio
 from ..model.profiles import PiecewiseConstantProfile
 from .engine import codes as C
 from .engine.codes import ACCELERATION_ULPS, CONTACT_ULPS, SEARCH_STEPS, VELOCITY_ULPS  # noqa: F401 (tie rules)
@@ -240,7 +240,7 @@ def _check_surface(surface):
     return surface
 
 
-def simulate_parts(profile, parts, *, surface=None, restitution=0.0, periods, phase=0.0,
+def simulate_parts(profile, parts, *, surface=None, restitution=0.0, periods, phase=0.0, friction=None,
                    max_events=MAX_EVENTS) -> PartsResult:
     """Simulate several parts on one table exactly, event by event, over whole periods from a start phase.
 
@@ -267,6 +267,10 @@ def simulate_parts(profile, parts, *, surface=None, restitution=0.0, periods, ph
     phase : float, optional
         The start time as a fraction of the period, in [0, 1) (as ``Scene.phase``): the run starts at
         tau0 = phase dt, and its periods end at tau0 + n dt.  Default 0.
+    friction : FrictionLaw or None, optional
+        Coulomb's law (None, the default) or static/kinetic friction: a cluster at rest sticks while the
+        static bounds r k_i mu_bar_i hold it and slips with the kinetic k_i mu_bar_i
+        (:func:`~selfalign.model.parts.static_kinetic_minimiser`).
     max_events : int, optional
         The event budget, an integer >= 1: the run ends with status ``"error"`` when it is used up.
 
@@ -279,11 +283,11 @@ def simulate_parts(profile, parts, *, surface=None, restitution=0.0, periods, ph
     ------
     TypeError
         If ``profile`` is not a PiecewiseConstantProfile, ``surface`` not Uniform, StopZone or None, ``parts``
-        not a sequence of Part, ``restitution`` or ``phase`` not a real number, or ``periods`` or
-        ``max_events`` not an integer.
+        not a sequence of Part, ``restitution`` or ``phase`` not a real number, ``friction`` not a FrictionLaw
+        or None, or ``periods`` or ``max_events`` not an integer.
     ValueError
         If ``parts`` is empty or two parts overlap (naming them), ``restitution`` lies outside [0, 1],
-        ``phase`` outside [0, 1), or ``periods`` or ``max_events`` is < 1.
+        ``phase`` outside [0, 1), ``friction`` is Stribeck's law, or ``periods`` or ``max_events`` is < 1.
 
     Examples
     --------
@@ -322,14 +326,16 @@ def simulate_parts(profile, parts, *, surface=None, restitution=0.0, periods, ph
     phase = check_real("phase", phase)
     if not 0.0 <= phase < 1.0:
         raise ValueError(f"phase must lie in [0, 1) (fraction of the period), got {phase!r}")
-    return _Chain(profile, parts, e, surface, phase).run(periods, max_events)
+    ratio = parts_friction_ratio(friction)
+    return _Chain(profile, parts, e, surface, phase, ratio).run(periods, max_events)
 
 
 class _Chain:
     """The state of a run of several parts in the arrays of the compiled stepper
     (:mod:`selfalign.solvers.engine.parts`, rows named in :mod:`selfalign.solvers.engine.codes`)."""
 
-    def __init__(self, profile: PiecewiseConstantProfile, parts, e: float, surface, phase: float = 0.0):
+    def __init__(self, profile: PiecewiseConstantProfile, parts, e: float, surface, phase: float = 0.0,
+                 ratio: float = 1.0):
         n = len(parts)
         self.n, self.profile = n, profile
         zone = isinstance(surface, StopZone)
@@ -351,9 +357,10 @@ class _Chain:
         q[C.QE], q[C.QC_MU] = e, c_mu
         q[C.QLENGTH] = float(np.max(f[C.PW])) + speed * profile.dt
         q[C.QV_FLOOR] = VELOCITY_ULPS * _EPS * speed
-        q[C.QA_TOL] = ACCELERATION_ULPS * _EPS * (profile.max_abs_acceleration + float(np.max(f[C.PK])) * c_mu)
+        q[C.QA_TOL] = ACCELERATION_ULPS * _EPS * (profile.max_abs_acceleration
+                                                  + ratio * float(np.max(f[C.PK])) * c_mu)
         q[C.QHIGHEST], q[C.QLOWEST] = float(np.max(profile.accels)), float(np.min(profile.accels))
-        q[C.QTAU0] = phase * profile.dt
+        q[C.QTAU0], q[C.QRATIO] = phase * profile.dt, ratio
         q[C.QMIN_GAP] = math.inf
         c = np.zeros(C.PARTS_COUNTERS, dtype=np.int64)
         c[C.CZONE] = zone

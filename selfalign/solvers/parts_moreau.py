@@ -33,7 +33,8 @@ u_{i+1} - u_i - e max(v_i - v_{i+1}, 0) >= 0: Moreau's impact law (Newton's at t
 simultaneous over all active contacts: the generalised law of
 :func:`~selfalign.model.parts.impact_velocities`), which with e = 0 makes touching parts share one
 velocity and with the friction term gives sticking, sliding and pushing clusters.  No friction impulse
-acts at an impact beyond the step's own h mu_i (friction is bounded by the weight).
+acts at an impact beyond the step's own h mu_i (friction is bounded by the weight).  Under static/kinetic
+friction the step's mode selection is :func:`~selfalign.model.parts.static_kinetic_minimiser` instead.
 
 The table's impulse over a step, y'(t_k + h) - y'(t_k), is integrated exactly, in closed form, as in the
 one-part scheme (:func:`selfalign.solvers.moreau.table_impulses`), rather than as h y''(t_k + h/2): no short
@@ -71,8 +72,16 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..model.errors import check_integer, check_real
-from ..model.friction import FrictionLaw, StopZone, Uniform, coefficient
-from ..model.parts import CHAIN_WORK_ROWS, chain_minimiser, check_parts, check_restitution
+from ..model.friction import StopZone, Uniform, coefficient
+from ..model.parts import (
+    CHAIN_WORK_ROWS,
+    STATIC_WORK_ROWS,
+    chain_minimiser,
+    check_parts,
+    check_restitution,
+    parts_friction_ratio,
+    static_kinetic_minimiser,
+)
 from ..model.profiles import Profile
 from . import moreau as M
 from .methods import check_moreau_work
@@ -179,7 +188,10 @@ def moreau_parts(profile, parts, *, surface=None, restitution=0.0, periods, phas
     sample_every : int, optional
         Record the state every this many steps (from the start); default None: the end state only.
     friction : FrictionLaw, optional
-        Only the paper's Coulomb law (the default) is implemented.
+        Coulomb's law (the default) or static/kinetic friction: a part whose velocity would reach or cross zero
+        within a step gets the static bound h r mu_i, and slips with the kinetic one if that does not hold it
+        (:func:`~selfalign.model.parts.static_kinetic_minimiser`; the one-part scheme's rule).  Stribeck's law
+        is refused.
 
     Returns
     -------
@@ -193,7 +205,7 @@ def moreau_parts(profile, parts, *, surface=None, restitution=0.0, periods, phas
         FrictionLaw, ``parts`` not a sequence of Part, or a count or ``restitution`` not a number.
     ValueError
         If the parts overlap or are not listed rear to front, ``restitution`` lies outside [0, 1], a count
-        is out of range, the friction law is not Coulomb's, N steps per period cannot resolve the table
+        is out of range, the friction law is Stribeck's, N steps per period cannot resolve the table
         motion (``selfalign.solvers.moreau.check_swing_seen``), the run exceeds 1e10 steps, or the samples
         would take more than 2 GiB.
     KernelError
@@ -222,12 +234,7 @@ def moreau_parts(profile, parts, *, surface=None, restitution=0.0, periods, phas
     surface = Uniform() if surface is None else surface
     if not isinstance(surface, (Uniform, StopZone)):
         raise TypeError(f"surface must be a Uniform or a StopZone, got {type(surface).__name__}")
-    friction = FrictionLaw() if friction is None else friction
-    if not isinstance(friction, FrictionLaw):
-        raise TypeError(f"friction must be a FrictionLaw, got {type(friction).__name__}")
-    if friction.kind != "coulomb":
-        raise ValueError(f"friction: several parts are simulated with the paper's Coulomb law only, got "
-                         f"kind {friction.kind!r}")
+    ratio = parts_friction_ratio(friction)
     e = check_restitution(restitution)
     periods = check_integer("periods", periods)
     phase = check_real("phase", phase)
@@ -258,9 +265,9 @@ def moreau_parts(profile, parts, *, surface=None, restitution=0.0, periods, phas
     gap = (x[1:] - width[1:]) - x[:-1]
     gap[gap <= 16 * np.finfo(float).eps * (np.abs(x[1:]) + width[1:] + np.abs(x[:-1]))] = 0.0
     advance = _stepper()
-    overlap = advance(x, v, gap, width, mass, factor, zone, x_mu, c_mu, e, impulse, h, total, every or 0, xs, vs,
-                      np.empty((4, n)), np.empty(max(n - 1, 0), dtype=np.bool_), np.empty(max(n - 1, 0)),
-                      np.empty((CHAIN_WORK_ROWS, n)))
+    overlap = advance(x, v, gap, width, mass, factor, zone, x_mu, c_mu, e, ratio, impulse, h, total, every or 0, xs,
+                      vs, np.empty((4, n)), np.empty(max(n - 1, 0), dtype=np.bool_), np.empty(max(n - 1, 0)),
+                      np.empty(n, dtype=np.bool_), np.empty((STATIC_WORK_ROWS, n)))
     t = None
     if every is not None:
         t = phase * profile.dt + np.arange(samples) * (every * h)
@@ -273,15 +280,16 @@ def moreau_parts(profile, parts, *, surface=None, restitution=0.0, periods, phas
                              v=None if every is None else vs)
 
 
-def _advance(x, v, gap, width, mass, factor, zone, x_mu, c_mu, e, impulse, h, total, every, xs, vs, rows, joined,
-             lower, work):
+def _advance(x, v, gap, width, mass, factor, zone, x_mu, c_mu, e, ratio, impulse, h, total, every, xs, vs, rows,
+             joined, lower, may_stick, work):
     """``total`` Moreau steps of the parts in place (module docstring): x, v, ``gap`` are the state,
-    ``impulse`` the table impulses of one period's steps, ``every`` the sampling interval (samples into xs,
-    vs; 0: none); ``rows``, ``joined``, ``lower`` and ``work`` are scratch.  Returns the largest overlap of
-    neighbours."""
+    ``impulse`` the table impulses of one period's steps, ``ratio`` r = mu_s / mu_k, ``every`` the sampling
+    interval (samples into xs, vs; 0: none); ``rows``, ``joined``, ``lower``, ``may_stick`` and ``work`` are
+    scratch.  Returns the largest overlap of neighbours."""
     x, v, gap, width, mass, factor = _borrowed(x), _borrowed(v), _borrowed(gap), _borrowed(width), \
         _borrowed(mass), _borrowed(factor)
     rows, joined, lower, work = _borrowed(rows), _borrowed(joined), _borrowed(lower), _borrowed(work)
+    may_stick = _borrowed(may_stick)
     n = x.size
     half = 0.5 * h
     period = impulse.size
@@ -311,7 +319,13 @@ def _advance(x, v, gap, width, mass, factor, zone, x_mu, c_mu, e, impulse, h, to
                 gap[i] += half * (v[i + 1] - v[i])                # the midpoint gap
                 joined[i] = gap[i] <= 0.0
                 lower[i] = e * max(v[i] - v[i + 1], 0.0)
-            chain_minimiser(b, mass, s, lower, joined, u, work)
+            if ratio == 1.0:
+                chain_minimiser(b, mass, s, lower, joined, u, work[:CHAIN_WORK_ROWS])
+            else:
+                # the static bound for a part whose velocity would reach or cross 0 within the step
+                for i in range(n):
+                    may_stick[i] = v[i] * b[i] <= 0.0
+                static_kinetic_minimiser(b, mass, s, ratio, may_stick, lower, joined, u, work)
             at_rest = True
             for i in range(n):
                 x[i] = mid[i] + half * u[i]
@@ -321,12 +335,12 @@ def _advance(x, v, gap, width, mass, factor, zone, x_mu, c_mu, e, impulse, h, to
                 gap[i] += half * (u[i + 1] - u[i])
                 overlap = max(overlap, -gap[i])
             if at_rest:
-                # At rest the next midpoints are the positions, every part alone sticks while |dv| <= h mu_i
+                # At rest the next midpoints are the positions, every part alone sticks while |dv| <= h r mu_i
                 # (u = 0 then solves the step, and its contacts need no force): skip those steps.
                 hold = np.inf
                 for i in range(n):
                     mu = factor[i] * coefficient(x[i] - x_mu, width[i], c_mu) if zone else factor[i]
-                    hold = min(hold, h * mu)
+                    hold = min(hold, h * ratio * mu)
         step += 1
         k += 1
         if k == period:

@@ -18,7 +18,14 @@ import math
 
 from ...model import arcs as A
 from ...model.friction import coefficient
-from ...model.parts import CHAIN_WORK_ROWS, IMPACT_WORK_ROWS, chain_minimiser, impact_velocities
+from ...model.parts import (
+    CHAIN_WORK_ROWS,
+    IMPACT_WORK_ROWS,
+    STATIC_WORK_ROWS,
+    chain_minimiser,
+    impact_velocities,
+    static_kinetic_minimiser,
+)
 from .. import records as R
 from ..outcomes import HIGH, LOW, STALL_EVENTS, ZONE
 from .codes import (
@@ -79,6 +86,7 @@ from .codes import (
     QLENGTH,
     QLOWEST,
     QMIN_GAP,
+    QRATIO,
     QT_END,
     QTAU0,
     QV_FLOOR,
@@ -371,21 +379,26 @@ def advance(f, g, n, s):
 # -- at an event --------------------------------------------------------------------------------------------
 @jit
 def decide(f, g, q, zone, first, last, ay, out):
-    """Accelerations of the parts first..last, touching at one velocity, under y'' = ay
-    (:func:`~selfalign.model.parts.chain_minimiser`: kinetic friction at v != 0, the stick bound at v = 0),
-    written into row ``out`` of ``f``."""
+    """Accelerations of the parts first..last, touching at one velocity, under y'' = ay, written into row
+    ``out`` of ``f``: :func:`~selfalign.model.parts.chain_minimiser` with kinetic friction at v != 0, and at
+    v = 0 :func:`~selfalign.model.parts.static_kinetic_minimiser` (the static bound r k mu_bar until a part
+    slips; with r = 1 the chain minimiser with the stick bound k mu_bar)."""
     vel = f[PV, first]
     for j in range(first, last + 1):
         f[PS, j] = f[PK, j] * friction(f, q, zone, j)
+    end = last + 1
     if vel == 0.0:
         for j in range(first, last + 1):
             f[PB, j] = -ay
-    else:
-        sign = math.copysign(1.0, vel)
-        for j in range(first, last + 1):
-            f[PB, j] = -ay - sign * f[PS, j]
-            f[PS, j] = 0.0
-    end = last + 1
+        # every part of the cluster is at rest and may stick (the row of ones of PALL_JOINED, N long)
+        static_kinetic_minimiser(f[PB, first:end], f[PM, first:end], f[PS, first:end], q[QRATIO],
+                                 g[PALL_JOINED, first:end], f[PLOWER, first:last], g[PALL_JOINED, first:last],
+                                 f[out, first:end], f[PWORK:PWORK + STATIC_WORK_ROWS, first:end])
+        return
+    sign = math.copysign(1.0, vel)
+    for j in range(first, last + 1):
+        f[PB, j] = -ay - sign * f[PS, j]
+        f[PS, j] = 0.0
     chain_minimiser(f[PB, first:end], f[PM, first:end], f[PS, first:end], f[PLOWER, first:last],
                     g[PALL_JOINED, first:last], f[out, first:end], f[PWORK:PWORK + CHAIN_WORK_ROWS, first:end])
 
