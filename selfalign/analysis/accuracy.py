@@ -148,7 +148,7 @@ def _check_scene(scene: Scene) -> None:
 def reference_solver(scene: Scene) -> tuple[str, dict]:
     """(method, options) of the study's reference: the exact solver, or the scene's solver block
     where the exact solver cannot simulate the scene; ValueError if that block names exact."""
-    refused = refusal("exact", scene)
+    refused = _refusal("exact", scene)
     if refused is None:
         return "exact", {}
     if scene.method == "exact":
@@ -157,7 +157,7 @@ def reference_solver(scene: Scene) -> tuple[str, dict]:
     return scene.method, dict(scene.solver_options)
 
 
-def refusal(method: str, scene: Scene) -> str | None:
+def _refusal(method: str, scene: Scene) -> str | None:
     """Why ``method`` cannot simulate ``scene`` (its friction law, or its several parts), or None."""
     if scene.parts is not None:
         return parts_refused(method, scene, {})
@@ -226,7 +226,7 @@ def _warm_up(scene: Scene) -> None:
     """One untimed short call per method that can simulate the scene, so that imports are not timed."""
     short = scene.replace(periods=1, record=Record())
     for method in ("exact", "moreau", "ivp"):
-        if refusal(method, scene) is None:
+        if _refusal(method, scene) is None:
             simulate(short, method)
 
 
@@ -276,7 +276,7 @@ def study(scene: Scene, settings: StudySettings = StudySettings(), *, progress: 
     resolve_mode(progress)
     dt = float(scene.profile.dt)
     steps_per_period = settings.steps_per_period()
-    ivp_refused = refusal("ivp", scene)
+    ivp_refused = _refusal("ivp", scene)
     rtols = settings.rtols() if ivp_refused is None else np.empty(0)
     atols = settings.ivp_atol_factor * rtols
     with Progress(2 + steps_per_period.size + rtols.size, f"accuracy study of {scene.name}", unit="runs",
