@@ -380,16 +380,17 @@ def _siconos_rows(s: dict) -> list[str]:
         return [f"| several parts against Siconos (work-precision) | skipped: {s['skipped']} |"]
     lines = []
     for name, scene in s["scenes"].items():
-        orders = ", ".join(f"{m} {order:.2f}" for m, order in scene["orders"].items())
+        label = {m: style[0] for m, style in siconos_parts.WORK_PRECISION_STYLE.items()}
+        orders = ", ".join(f"{label[m]} {order:.2f}" for m, order in scene["orders"].items())
         lines.append(f"| several parts against Siconos, `{name}` ({scene['parts']} parts, e = "
                      f"{scene['restitution']:g}, {scene['periods']} periods) | exact solver "
-                     f"{scene['reference_cpu'] * 1e3:.1f} ms; fitted Moreau orders: {orders} |")
+                     f"{scene['reference_cpu'] * 1e3:.1f} ms; fitted orders: {orders} |")
         ratios = {r["steps_per_period"]: r for r in scene["ratios"]}
         by_step = {}
         for row in scene["rows"]:
             by_step.setdefault(row["steps_per_period"], {})[row["method"]] = row
         for n, rows in by_step.items():
-            side = "; ".join(f"{m} {row['error']:.2e} in {row['cpu']:.4f} s" for m, row in rows.items())
+            side = "; ".join(f"{label[m]} {row['error']:.2e} in {row['cpu']:.4f} s" for m, row in rows.items())
             lines.append(f"| `{name}`, h = dt/{n}: error, CPU | {side}; Siconos (theta = 1/2) / moreau_parts: CPU "
                          f"{ratios[n]['cpu_ratio']:.0f}x, error {ratios[n]['error_ratio']:.3f} |")
     where = f"`{s['figure']}`" if s["figure"] else "figure (not drawn)"
