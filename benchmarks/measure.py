@@ -26,10 +26,12 @@ import yaml
 
 from selfalign.analysis.positioning import MEMORY_LIMIT, positioning_bytes, positioning_grid
 from selfalign.model.friction import StopZone, Uniform
+from selfalign.model.parts import Part
 from selfalign.model.profiles import ThreePhaseProfile
 from selfalign.model.scene import Scene
 from selfalign.solvers.driver import simulate, simulate_batch
 from selfalign.solvers.exact import piecewise_rows
+from selfalign.solvers.parts_exact import simulate_parts
 from selfalign.solvers.records import EXACT_PIECEWISE
 from selfalign.solvers.tables import ProfileTable
 
@@ -38,6 +40,8 @@ PROFILE = ThreePhaseProfile(1.05, 0.084, 2.2, 0.9)
 #: A transition zone so wide that the mass stays inside it: a harmonic arc every
 #: period and no steady state to fast-forward, so both solvers really integrate.
 WIDE_ZONE = StopZone(-1000.0, 1e4, 2.0)
+#: A profile of Fig. 16 (dt = 1, y3'' = 1.3 > 1): slips forward and backward in every period.
+BACKWARD = ThreePhaseProfile(1.0, 0.084, 2.3, 1.3)
 
 def machine() -> dict:
     """Platform, CPU model (from /proc/cpuinfo where it exists), cores, Python and numpy."""
@@ -179,6 +183,43 @@ def batched_sweep(n: int = 64, horizons: tuple = (20, 200), repeat: int = 3) -> 
     return rows
 
 
+def parts_chain(count: int, seed: int = 1) -> list:
+    """``count`` parts in a row from x = 0 (seeded): widths 0.02-0.08, masses 0.5-2, friction factors 0.8-1.6,
+    start velocities within +-0.3; each touches the one behind it with probability 1/2, else lies up to 0.05
+    ahead of it."""
+    rng = np.random.default_rng(seed)
+    parts, front = [], 0.0
+    for _ in range(count):
+        width = rng.uniform(0.02, 0.08)
+        front += width + (0.0 if rng.random() < 0.5 else rng.uniform(0.0, 0.05))
+        parts.append(Part(front, rng.uniform(-0.3, 0.3), width=width, mass=rng.uniform(0.5, 2.0),
+                          friction_factor=rng.uniform(0.8, 1.6)))
+    return parts
+
+
+def several_parts(count: int = 100, periods: int = 1000, repeat: int = 1) -> list[dict]:
+    """Events per second of the exact solver of several parts (``simulate_parts``, plastic contacts) on a chain
+    of ``count`` parts (:func:`parts_chain`) over ``periods`` periods, on a uniform surface and with a stop
+    zone (x_mu 0.5 ahead of the front part, w = 0.05, c_mu = 2.5) that the chain runs into, under the Fig. 18
+    profile (forward slips: the chain soon moves as a few pushed clusters) and under :data:`BACKWARD` (slips
+    both ways: contacts close and open every period)."""
+    parts = parts_chain(count)
+    zone = StopZone(parts[-1].x0 + 0.5, 0.05, 2.5)
+    cases = {"Fig. 18, uniform": (PROFILE, Uniform()), "Fig. 18, stop zone": (PROFILE, zone),
+             "backward slips, uniform": (BACKWARD, Uniform()), "backward slips, stop zone": (BACKWARD, zone)}
+    rows = []
+    for name, (profile, surface) in cases.items():
+        def solve():
+            return simulate_parts(profile, parts, surface=surface, periods=periods)
+
+        result = solve()
+        seconds = _best(solve, repeat)
+        rows.append({"case": name, "parts": count, "periods": periods, "status": result.status.value,
+                     "events": result.events, "impacts": result.impacts, "seconds": seconds,
+                     "events_per_s": result.events / seconds})
+    return rows
+
+
 def simulate_latency(calls: int = 2000) -> dict:
     """Median wall time of ``sa.simulate`` of a 5-period scene (Fig. 18 profile, uniform
     surface) after warm-up, over ``calls`` calls."""
@@ -307,13 +348,16 @@ def run(repo: Path | None = None, tiny: bool = False, cores: int = 2, figure: Pa
     if tiny:
         moreau_args, single, sweep, latency, fig17 = ({"periods": 5, "tolerances": (1e-2,), "steps": (100, 1000),
                                                        "repeat": 1}, (200, 1), (8, (2,), 1), 20, (9, 8, 1))
+        parts = (10, 5, 1)
     else:
         moreau_args, single, sweep, latency, fig17 = ({"periods": 50}, (200_000, 3), (64, (20, 200), 3), 2000,
                                                        (201, 128, 2))
+        parts = (100, 1000, 1)
     report = {"machine": machine(),
               "exact_vs_moreau": exact_vs_moreau(**moreau_args),
               "single_trajectory": single_trajectory(*single),
               "batched_sweep": batched_sweep(*sweep),
+              "several_parts": several_parts(*parts),
               "simulate_latency": simulate_latency(latency),
               "first_call": first_call(cold=not tiny),
               "fig17": fig17_sweep(*fig17),
@@ -347,6 +391,10 @@ def format_table(report: dict) -> str:
                      f"{r['per_s_per_core'] / r['reference_per_s']:.0%}; end states differ by "
                      f"{r['max_end_difference']:.1e})")
         lines.append(f"| batch, {r['solver']} | {text} |")
+    rows = report["several_parts"]
+    lines.append(f"| several parts, exact, {rows[0]['parts']} parts x {rows[0]['periods']} periods | " + "; ".join(
+        f"{r['case']}: {r['seconds']:.2f} s, {r['events_per_s']:.3g} events/s ({r['events']} events, "
+        f"{r['impacts']} contact closings, ends {r['status']})" for r in rows) + " |")
     lat = report["simulate_latency"]
     lines.append(f"| `sa.simulate`, 5 periods, after warm-up | median {lat['median_us']:.1f} µs, 90th percentile "
                  f"{lat['p90_us']:.1f} µs ({lat['calls']} calls) |")

@@ -58,6 +58,31 @@ def repo() -> Path:
     return REPO
 
 
+@pytest.fixture(scope="session", autouse=True)
+def compiled_solvers(tmp_path_factory):
+    """Under pytest-xdist (the README's command), the processes compile the solvers' entry points
+    first, sharing the work (:mod:`selfalign.solvers.warmup`): each takes the warm-ups no other has
+    started, under a lock file per warm-up in the session's common temporary directory.  On an empty
+    numba cache this replaces the compilations every process and every job of the test pipelines would
+    otherwise repeat; on a filled one each warm-up loads in well under a second.  A single process
+    (a file run alone) compiles what its tests call, when they call it."""
+    if "PYTEST_XDIST_WORKER" not in os.environ:
+        return
+    from selfalign.solvers.warmup import WARMUPS, warm_up
+
+    shared = tmp_path_factory.getbasetemp().parent
+    for name in WARMUPS:
+        with open(shared / f"warmup_{name}.lock", "w") as lock:
+            try:
+                fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except BlockingIOError:
+                continue                    # another process has it
+            done = shared / f"warmup_{name}.done"
+            if not done.exists():
+                warm_up([name])
+                done.touch()
+
+
 def random_three_phase(count, seed, *, accelerations, strokes, complete):
     """``count`` random feasible three-phase settings from the generator seeded with ``seed``.  Per
     draw: dt uniform in [0.3, 2], y2'' and y3'' log-uniform in ``accelerations`` (lo, hi), dy the

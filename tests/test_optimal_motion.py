@@ -178,15 +178,16 @@ def _check_general_search(pieces, period, a, ratio, velocity_max, stroke_max, **
 
 
 @pytest.mark.blas
-@pytest.mark.parametrize("pieces", [3, 4, 8])
+@pytest.mark.parametrize("pieces", [3, 8])
 @pytest.mark.parametrize("period, a, ratio, velocity_max, stroke_max", GRID)
 def test_no_piece_profile_beats_the_optimum(pieces, period, a, ratio, velocity_max, stroke_max):
     """Hypothesis ("The bound", "The searched family"): no zero-mean N-piece motion within the limits
     moves the part faster than optimal_profile by more than 1e-6.  A general search (differential
     evolution from two seeds over all durations and levels, then Nelder-Mead; every trial motion run by
-    the exact solver) tries N = 3, 4, 8.  It is strong enough to matter: under Coulomb friction and the
-    acceleration limit alone, with 3 or 4 pieces, it finds the optimum itself (to 1e-6), so a returned
-    motion slower than the best 3-piece one would fail here."""
+    the exact solver) tries N = 3 and 8 (the exhaustive test below: 3 to 64 and more limits).  It is
+    strong enough to matter: under Coulomb friction and the acceleration limit alone, with 3 pieces, it
+    finds the optimum itself (to 1e-6), so a returned motion slower than the best 3-piece one would fail
+    here."""
     found, ours = _check_general_search(pieces, period, a, ratio, velocity_max, stroke_max)
     if ratio == 1.0 and velocity_max is None and stroke_max is None and pieces <= 4:
         assert found >= ours.vbar * (1.0 - BEATEN_BY), (found, ours.vbar)

@@ -35,18 +35,19 @@ def scaled(profile, k):
 
 @pytest.fixture
 def gaps(monkeypatch):
-    """The smallest gap between neighbours, relative to the positions' scale, seen after every event."""
+    """The smallest gap between neighbours, relative to the positions' scale, after every event of each run
+    (the compiled stepper keeps it: PE._Chain.min_gap); each run's end state is finite."""
     seen = []
-    settle = PE._Chain.settle
+    run = PE._Chain.run
 
     def watched(self, *args, **kwargs):
-        settle(self, *args, **kwargs)
+        result = run(self, *args, **kwargs)
         assert np.all(np.isfinite(self.x)) and np.all(np.isfinite(self.v))
         if self.n > 1:
-            g = (self.x[1:] - self.w[1:]) - self.x[:-1]
-            seen.append(float(np.min(g / (np.abs(self.x[:-1]) + self.length_scale))))
+            seen.append(self.min_gap)
+        return result
 
-    monkeypatch.setattr(PE._Chain, "settle", watched)
+    monkeypatch.setattr(PE._Chain, "run", watched)
     return seen
 
 
@@ -61,6 +62,39 @@ def test_one_part_equals_the_single_part_solver(profile, x0, v0):
     assert result.status == "horizon" and result.t_end == pytest.approx(20 * profile.dt, rel=1e-15)
     assert abs(result.x_end[0] - x) <= TOL and abs(result.v_end[0] - v) <= TOL
     assert result.sticks >= 19 and result.impacts == result.openings == 0
+
+
+@pytest.mark.parametrize("profile", [FIG18, BACKWARD], ids=["fig18", "backward"])
+@pytest.mark.parametrize("phase, x0, v0", [(0.3, 0.0, 0.0), (0.77, 0.3, -0.4), (0.05, 0.1, 0.2)])
+def test_a_start_phase_equals_the_single_part_solver_started_there(profile, phase, x0, v0):
+    """Hypothesis: a run that starts at tau0 = phase dt (its period boundaries at tau0 + n dt) integrates the
+    same closed-form arcs as the single-part solver started at that phase (Scene.phase), piece by piece from
+    inside the piece holding tau0, so with one part x_end and v_end agree to 1e-12 after 20 periods, at
+    t_end = tau0 + 20 dt; parts far apart each do (they exert no contact force), from the same phase."""
+    reference = sa.simulate(sa.Scene(profile, x0=x0, v0=v0, phase=phase, periods=20))
+    result = simulate_parts(profile, [Part(x0, v0, width=W)], periods=20, phase=phase)
+    assert result.status == "horizon" and abs(result.t_end - (phase * profile.dt + 20 * profile.dt)) <= TOL
+    assert abs(result.x_end[0] - reference.x_end) <= TOL and abs(result.v_end[0] - reference.v_end) <= TOL
+    starts = [(x0 - 20.0, v0), (x0, v0), (x0 + 20.0, 0.0)]
+    far = simulate_parts(profile, [Part(x, v, width=W) for x, v in starts], periods=20, phase=phase)
+    assert far.impacts == 0
+    for i, (x, v) in enumerate(starts):
+        alone = sa.simulate(sa.Scene(profile, x0=x, v0=v, phase=phase, periods=20))
+        assert abs(far.x_end[i] - alone.x_end) <= TOL and abs(far.v_end[i] - alone.v_end) <= TOL
+
+
+@pytest.mark.parametrize("phase", [0.2, 0.6])
+def test_a_start_phase_on_a_stop_zone_equals_the_single_part_solver_started_there(phase):
+    """Hypothesis: as with a uniform surface, with the transition's arcs and zone crossings (eqs. 42-44): parts
+    far apart on a stop zone, each of its own width, started at tau0 = phase dt, each end as the single-part
+    solver on StopZone(x_mu, w_i, c_mu) from that phase after 20 periods (to 1e-12)."""
+    starts = [(-3.0, 0.03), (0.0, 0.05), (0.7, 0.08)]
+    result = simulate_parts(FIG18, [Part(x0, width=w) for x0, w in starts], surface=sa.StopZone(0.15, W, 2.5),
+                            periods=20, phase=phase)
+    assert result.part_crossings.sum() > 0
+    for i, (x0, w) in enumerate(starts):
+        reference = sa.simulate(sa.Scene(FIG18, sa.StopZone(0.15, w, 2.5), x0=x0, phase=phase, periods=20))
+        assert abs(result.x_end[i] - reference.x_end) <= TOL and abs(result.v_end[i] - reference.v_end) <= TOL
 
 
 def test_parts_far_apart_each_move_as_alone():
@@ -307,28 +341,27 @@ def test_a_pushed_pair_accumulates_where_its_pooled_friction_holds(c_mu, k_rear,
     assert min(gaps) >= -8 * np.finfo(float).eps
 
 
-def test_a_sliding_pair_separates_where_its_contact_force_vanishes(monkeypatch, gaps):
+def test_a_sliding_pair_separates_where_its_contact_force_vanishes(gaps):
     """Hypothesis: inside a sliding cluster of two equal masses the contact force is lam = m (b_r - b_f) / 2
     with b_i = -y'' - k_i mu_bar_i (chain_minimiser's pooling, docs/explanation/several-parts.md); it is affine
     in the displacement in the zone and falls to zero exactly where k_r mu_bar_r = k_f mu_bar_f.  A pair of
     factors (0.8, 0.7) pushed by the Fig. 18 profile into StopZone(0.1, 0.05, 2) slides together with the front
     part on the high-friction side (0.7 c_mu = 1.4) until the rear part's mu_bar reaches 1.75, its front at
     x_mu + 0.75 w: there the contact opens, at one velocity and one acceleration (to 1e-12), and the parts
-    never overlap."""
-    opened = []
-    settle = PE._Chain.settle
-
-    def watched(self, ay, closes=(), opens=(), **flags):
-        joined = self.joined.copy()
-        settle(self, ay, closes, opens, **flags)
-        opened.extend((self.x + self.origin, self.v.copy(), self.a.copy()) for i in opens
-                      if joined[i] and not self.joined[i])
-
-    monkeypatch.setattr(PE._Chain, "settle", watched)
+    never overlap.  The state at each event is read by stopping the run there (its event budget): the first
+    opening of the contact between parts sliding at one velocity is that one."""
     parts = [Part(-0.05, width=0.05, friction_factor=0.8), Part(0.0, width=0.05, friction_factor=0.7)]
-    result = simulate_parts(FIG18, parts, surface=sa.StopZone(0.1, 0.05, 2.0), periods=12)
-    assert opened and result.openings >= len(opened)
-    x, v, a = opened[0]
+    zone = sa.StopZone(0.1, 0.05, 2.0)
+    result = simulate_parts(FIG18, parts, surface=zone, periods=12)
+    opened, budget, openings = None, 1, 0
+    while opened is None and budget <= result.events:
+        chain = PE._Chain(FIG18, parts, 0.0, zone)
+        stop = chain.run(12, budget)
+        if stop.openings > openings and chain.v[0] == chain.v[1] > 0.0:
+            opened = (chain.x + chain.origin, chain.v.copy(), chain.a.copy())
+        openings, budget = stop.openings, budget + 1
+    assert opened is not None and result.openings >= 1
+    x, v, a = opened
     assert abs(x[0] - (0.1 + 0.75 * 0.05)) <= TOL and abs(x[1] - x[0] - 0.05) <= TOL
     assert v[0] == v[1] > 0.0 and abs(a[1] - a[0]) <= TOL
     assert min(gaps) >= -8 * np.finfo(float).eps
@@ -359,6 +392,33 @@ def test_a_mixed_chain_entering_a_stop_zone_stays_ordered_and_finite(gaps):
     assert min(gaps) >= -8 * np.finfo(float).eps
 
 
+@pytest.mark.parametrize("surface", [None, sa.StopZone(3.0, 0.05, 2.5)], ids=["uniform", "zone"])
+def test_a_chain_of_a_hundred_parts_keeps_its_invariants_and_restarts_from_its_end_state(surface, gaps):
+    """Hypothesis: the solver's invariants hold at scale: a chain of 100 unequal parts (half of them touching)
+    under the Fig. 16 profile (slips both ways: contacts close and open in every period), plastic contacts,
+    on a uniform surface and running into a stop zone, ends 50 periods with status horizon or rest, finite,
+    with no gap below -16 ulp of the positions (none below -8 ulp of the positions' scale after any event).
+    The run depends on its state only (positions and velocities: touching contacts are found again within
+    the contact tolerance, velocity runs pool again within the velocity floor, tie rules 4-5), so the same run
+    in two halves, the second started from the first's end state, ends where the whole run does, to 1e-12
+    (plastic contacts: no impact sequence amplifies rounding differences, as e > 0 can,
+    tests/test_parts_crosscheck.py)."""
+    parts = random_chain(7, 0.0, widths=(0.02, 0.08), touching=0.5, gap=0.05, factors=(0.8, 1.6), count=100)
+    result = simulate_parts(BACKWARD, parts, surface=surface, periods=50)
+    assert result.status in ("horizon", "rest") and result.impacts > 100 and result.openings > 100
+    assert np.all(np.isfinite(result.x_end)) and np.all(np.isfinite(result.v_end))
+    g = (result.x_end[1:] - [p.width for p in parts[1:]]) - result.x_end[:-1]
+    assert np.all(g >= -16 * np.spacing(np.maximum(np.abs(result.x_end[:-1]), np.abs(result.x_end[1:]))))
+    assert min(gaps) >= -8 * np.finfo(float).eps
+    first = simulate_parts(BACKWARD, parts, surface=surface, periods=25)
+    restart = [Part(x, v, width=p.width, mass=p.mass, friction_factor=p.friction_factor)
+               for x, v, p in zip(first.x_end, first.v_end, parts)]
+    second = simulate_parts(BACKWARD, restart, surface=surface, periods=25)
+    assert np.max(np.abs(second.x_end - result.x_end)) <= TOL and np.max(np.abs(second.v_end - result.v_end)) <= TOL
+    if surface is not None:
+        assert result.part_crossings.sum() > 0
+
+
 @pytest.mark.parametrize("surface, e", [(None, 0.5), (sa.StopZone(0.0, 0.05, 2.0), 0.0)], ids=["uniform", "zone"])
 def test_the_exact_solver_and_moreau_time_stepping_agree(surface, e):
     """Hypothesis: the exact solver and Moreau's midpoint time-stepping of the same model
@@ -374,6 +434,57 @@ def test_the_exact_solver_and_moreau_time_stepping_agree(surface, e):
     assert exact.impacts > 5
     assert np.max(np.abs(moreau.x_end - exact.x_end)) <= 5e-5
     assert np.max(np.abs(moreau.v_end - exact.v_end)) <= 5e-5
+
+
+def single_part_events(profile, surface, x0, v0, periods):
+    """(sticks, slip starts and reversals, zone crossings) in the event log of the single-part exact solver."""
+    traj = sa.simulate(sa.Scene(profile, surface or sa.Uniform(), x0=x0, v0=v0, periods=periods,
+                                record=sa.Record(events=True)))
+    kinds = traj.events["kind"]
+    return (int(np.sum(kinds == int(sa.EventKind.STICK))),
+            int(np.sum((kinds == int(sa.EventKind.SLIP)) | (kinds == int(sa.EventKind.REVERSAL)))),
+            int(np.sum(kinds == int(sa.EventKind.ZONE))))
+
+
+@pytest.mark.parametrize("profile, surface, starts", [
+    (BACKWARD, None, [(-20.0, 0.5, W), (0.0, 0.0, W), (20.0, -0.3, W)]),
+    (FIG18, sa.StopZone(0.15, W, 2.5), [(-3.0, 0.0, 0.03), (0.0, 0.0, 0.05), (0.7, 0.0, 0.08)]),
+], ids=["uniform", "zone"])
+def test_parts_far_apart_count_their_events_as_alone(profile, surface, starts):
+    """Hypothesis: parts that never touch move as alone (docs/explanation/several-parts.md), so each part's
+    sticks, slip starts (from stick, or reversals) and zone crossings are those of the single-part solver's
+    event log over the same 20 periods (on a stop zone the part's own width, eqs. 7-9), exactly, and it
+    takes part in no contact closing or opening; the totals of sticks and slips are the sums over the
+    parts (each cluster is one part)."""
+    parts = [Part(x0, v0, width=w) for x0, v0, w in starts]
+    result = simulate_parts(profile, parts, surface=surface, periods=20)
+    for i, (x0, v0, w) in enumerate(starts):
+        zone = None if surface is None else sa.StopZone(surface.x_mu, w, surface.c_mu)
+        expected = single_part_events(profile, zone, x0, v0, 20)
+        assert (result.part_sticks[i], result.part_slips[i], result.part_crossings[i]) == expected, i
+    assert result.part_sticks.shape == (3,) and result.part_sticks.sum() == result.sticks > 0
+    assert result.part_slips.sum() == result.slips > 0
+    assert not result.part_impacts.any() and not result.part_openings.any()
+    assert (result.part_crossings.sum() > 0) == (surface is not None)
+
+
+def test_events_per_part_count_every_part_of_a_cluster_and_both_parts_of_a_contact():
+    """Hypothesis: a stick or slip start of a cluster is one event in which each of its parts takes part, and a
+    contact closing or opening involves the two parts of the contact: a pushed pair (docs/explanation/
+    several-parts.md: touching, they move as one part) counts the same sticks and slips for both parts, each
+    the total; in the chase of Fig. 18 (the rear part, k = 0.7, hits the front one in every period) each of
+    the two parts counts every impact and opening; in a chain of eight, the counts per part add up to twice
+    the totals of closings and openings."""
+    pair = simulate_parts(FIG18, [Part(0.0, width=W), Part(W, width=W)], periods=10)
+    assert pair.part_sticks.tolist() == [pair.sticks] * 2 and pair.part_slips.tolist() == [pair.slips] * 2
+    assert pair.sticks >= 10 and not pair.part_impacts.any()
+    chase = simulate_parts(FIG18, [Part(0.0, width=W, friction_factor=0.7), Part(0.06, width=W)], periods=10)
+    assert chase.part_impacts.tolist() == [chase.impacts] * 2 and chase.impacts >= 5
+    assert chase.part_openings.tolist() == [chase.openings] * 2
+    parts = random_chain(3, -0.3, widths=(0.03, 0.07), touching=0.6, gap=0.03, factors=(0.7, 1.5))
+    chain = simulate_parts(BACKWARD, parts, restitution=0.5, periods=5)
+    assert chain.part_impacts.sum() == 2 * chain.impacts > 0 and chain.part_openings.sum() == 2 * chain.openings > 0
+    assert chain.part_sticks.sum() >= chain.sticks and chain.part_slips.sum() >= chain.slips
 
 
 def test_parts_held_for_good_end_at_rest():
@@ -398,6 +509,33 @@ def test_the_event_budget_ends_the_run_with_an_error():
     assert 5 <= result.events <= 6 and np.isfinite(result.x_end[0]) and result.t_end < 2 * FIG18.dt
 
 
+def test_the_compiled_event_loop_allocates_nothing():
+    """Hypothesis: the event loop runs in the arrays the caller allocated (selfalign.solvers.engine.parts), so
+    numba's runtime counts the same allocations for a run of 2 periods as for one of 50 with hundreds more events
+    (those of passing the arrays in), on a stop zone with impacts (e = 0.3); NUMBA_NRT_STATS=1 makes it count,
+    in a fresh process, after a first run has started the runtime."""
+    import subprocess
+    import sys
+
+    code = ("import selfalign as sa\n"
+            "from numba.core.runtime import rtsys\n"
+            "from selfalign.model.parts import Part\n"
+            "from selfalign.solvers import parts_exact as PE\n"
+            "profile = sa.ThreePhaseProfile(dt=1.0, dy=0.084, y2=2.3, y3=1.3)\n"
+            "parts = [Part(i * 0.0625, 0.1 * (i % 3), width=0.0625) for i in range(20)]\n"
+            "PE._Chain(profile, parts, 0.3, sa.StopZone(0.5, 0.05, 2.0)).run(1, 10)\n"
+            "for periods in (2, 50):\n"
+            "    chain = PE._Chain(profile, parts, 0.3, sa.StopZone(0.5, 0.05, 2.0))\n"
+            "    before = rtsys.get_allocation_stats().alloc\n"
+            "    result = chain.run(periods, 10 ** 7)\n"
+            "    print(result.events, rtsys.get_allocation_stats().alloc - before)\n")
+    env = {**__import__("os").environ, "NUMBA_NRT_STATS": "1"}
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=600)
+    assert out.returncode == 0, out.stderr
+    (few, allocated_few), (many, allocated_many) = [map(int, line.split()) for line in out.stdout.split("\n") if line]
+    assert many >= few + 300 and allocated_many == allocated_few
+
+
 @pytest.mark.parametrize("call, error, words", [
     (lambda: simulate_parts(FIG18, [], periods=1), ValueError, "at least one Part"),
     (lambda: simulate_parts(FIG18, [Part(0.0, width=W), Part(0.01, width=W)], periods=1), ValueError,
@@ -414,6 +552,10 @@ def test_the_event_budget_ends_the_run_with_an_error():
     (lambda: simulate_parts(FIG18, [Part(0.0, width=W)], periods=0), ValueError, "periods"),
     (lambda: simulate_parts(FIG18, [Part(0.0, width=W)], periods=2.5), TypeError, "periods"),
     (lambda: simulate_parts(FIG18, [Part(0.0, width=W)], periods=1, max_events=0), ValueError, "max_events"),
+    (lambda: simulate_parts(FIG18, [Part(0.0, width=W)], periods=1, phase=1.0), ValueError, "phase"),
+    (lambda: simulate_parts(FIG18, [Part(0.0, width=W)], periods=1, phase=-0.1), ValueError, "phase"),
+    (lambda: simulate_parts(FIG18, [Part(0.0, width=W)], periods=1, phase=math.nan), ValueError, "phase"),
+    (lambda: simulate_parts(FIG18, [Part(0.0, width=W)], periods=1, phase="0.5"), TypeError, "phase"),
     (lambda: simulate_parts(sa.FourierProfile(1.0, [0.01], [0.0]), [Part(0.0, width=W)], periods=1), TypeError,
      "PiecewiseConstantProfile"),
     (lambda: simulate_parts(FIG18, [Part(0.0, width=W)], surface="uniform", periods=1), TypeError, "surface"),

@@ -103,6 +103,9 @@ def test_benchmarks_run_tiny_structure():
     assert [r["unit"] for r in sweep] == ["events", "events", "steps"]
     assert all(r["count"] > 0 and r["trajectories"] == 64 for r in sweep)
     assert all(r["max_end_difference"] == 0.0 and r["reference_per_s"] > 0 for r in sweep[:2])
+    assert [r["case"] for r in report["several_parts"]] == [
+        "Fig. 18, uniform", "Fig. 18, stop zone", "backward slips, uniform", "backward slips, stop zone"]
+    assert all(r["events"] > 0 and r["status"] in ("horizon", "rest") for r in report["several_parts"])
     assert report["simulate_latency"]["median_us"] > 0
     assert report["first_call"]["cold"] is None and report["first_call"]["cached"]["first_simulate_s"] > 0
     assert report["fig17"]["trajectories"] > 0 and report["fig17"]["events"] > 0
@@ -114,7 +117,7 @@ def test_benchmarks_run_tiny_structure():
     s = report["siconos_parts"]
     siconos = 1 if "skipped" in s else 1 + sum(1 + len({r["steps_per_period"] for r in scene["rows"]})
                                                for scene in s["scenes"].values())
-    assert table.count("\n| ") == 2 + 1 + 2 + 3 + 1 + 1 + 1 + 1 + siconos + 1  # header, separator, one per row
+    assert table.count("\n| ") == 2 + 1 + 2 + 3 + 1 + 1 + 1 + 1 + 1 + siconos + 1  # header, separator, one per row
     json.dumps(report)  # the raw numbers are JSON as written by the workflow
 
 

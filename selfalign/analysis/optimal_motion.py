@@ -884,15 +884,12 @@ def optimal_profile(period, accel_max, *, stroke_max=None, velocity_max=None, fr
     >>> print(tighter.family, tighter.sub_cycles, round(tighter.vbar, 5))
     bang-coast-bang-stick-dwell x 2 2 0.07619
 
-    A period range: under the acceleration limit alone the longest period wins; under a stroke limit the
-    period at which the fastest motion just fits it:
+    A period range: under the acceleration limit alone the longest period wins (under a stroke limit, the
+    period at which the fastest motion just fits it, found by a scan: docs/explanation/optimal-motion.md):
 
     >>> longest = sa.optimal_profile((0.5, 2.0), 3.0)
     >>> print(longest.period, longest.binding, round(longest.vbar, 9))
     2.0 ('accel_max', 'period') 0.333333333
-    >>> fitted = sa.optimal_profile((0.5, 1.0), 3.0, stroke_max=0.05)
-    >>> print(round(fitted.period, 6), fitted.family, fitted.binding, round(fitted.vbar, 6))
-    0.657267 bang-bang-stick ('accel_max', 'stroke_max') 0.109545
 
     A jerk limit: y'' ramps between its levels, and the part loses about 3 a / (j dt) of v*:
 

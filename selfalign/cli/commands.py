@@ -291,6 +291,23 @@ def equations(output: Path | None) -> int:
     return 0
 
 
+@selfalign.command("compile", short_help="Compile the solvers now, ahead of jobs that would each compile them.")
+@debug_option
+@reported
+def compile_command() -> int:
+    """Compile every entry point of the compiled solvers into numba's cache (selfalign.solvers.warmup), one
+    tiny run each, and print each one's time.  Run it once on a machine (or a node of the CPU type a
+    cluster's jobs run on) before a sweep or a first `snakemake -c2`: jobs that start together on an empty
+    cache would each compile the same code; afterwards every process loads it (well under a second each)."""
+    from ..solvers.jit import cache_root
+    from ..solvers.warmup import WARMUPS, warm_up
+
+    for name, seconds in warm_up():
+        click.echo(f"{seconds:7.2f} s  {WARMUPS[name][0]}")
+    click.echo(f"numba cache: {cache_root()}")
+    return 0
+
+
 @selfalign.command("steady-state", short_help="Steady state, case, f and Floquet multipliers (Sects. 4.4.3, 5.1, 6.1).")
 @profile_options
 @click.option("--json", "as_json", is_flag=True, help="Print JSON (null for NaN and infinity).")

@@ -28,7 +28,7 @@ from collections.abc import Sequence
 from dataclasses import KW_ONLY, dataclass
 
 from .errors import check_finite, check_positive, check_real
-from .registry import formula
+from .registry import formula, kernel_helper
 
 #: Touching parts may overlap by this many ulp of their positions and widths (rounding of computed positions).
 OVERLAP_ULPS = 4
@@ -196,6 +196,7 @@ def check_restitution(e) -> float:
     return value
 
 
+@kernel_helper
 def _block_minimiser(first, last, m, beta, s, offset) -> float:
     """The minimiser w of sum_j m_j ((w - beta_j)^2 / 2 + s_j |w - offset_j|) over j in [first, last]: zero
     of the increasing g(w) = M w - sum m beta + sum m s Sign(w - offset), exact up to the rounding of its
@@ -237,7 +238,7 @@ def _block_minimiser(first, last, m, beta, s, offset) -> float:
 
 @formula(unnumbered="the equations of motion of several parts in contact (eq. 6 per part, Coulomb friction of "
                     "eq. 2, unilateral contact) as the optimality conditions of a convex problem on the chain; "
-                    "beyond the paper (Sect. 8, recommendation 5)", kernel=False)
+                    "beyond the paper (Sect. 8, recommendation 5)")
 def chain_minimiser(b, m, s, lower, joined, out, work) -> None:
     """Write into ``out`` the unique minimiser a of sum_i m_i ((a_i - b_i)^2 / 2 + s_i |a_i|) subject to
     a_{i+1} - a_i >= lower_i wherever ``joined[i]``.
@@ -304,8 +305,7 @@ def chain_minimiser(b, m, s, lower, joined, out, work) -> None:
 
 
 @formula(unnumbered="Newton's impact law applied simultaneously to every closed contact of a chain of parts "
-                    "(Moreau's generalised Newton law); beyond the paper (Sect. 8, recommendation 5)",
-         kernel=False)
+                    "(Moreau's generalised Newton law); beyond the paper (Sect. 8, recommendation 5)")
 def impact_velocities(v, m, e, joined, out, work) -> None:
     """Write into ``out`` the velocities u just after an impact among parts with velocities ``v`` before it.
 

@@ -5,7 +5,10 @@ A function marked with :func:`formula` is a plain scalar Python function of floa
 (:mod:`selfalign.solvers.engine`) is first loaded it registers every marked function with numba,
 so that the compiled code calls this same function compiled, never a copy.  A vectorised formula
 of the model (numpy arrays in and out, which the kernel does not call) is marked with
-``formula(..., kernel=False)``: it is tagged and indexed the same way, but not given to numba.
+``formula(..., kernel=False)``: it is tagged and indexed the same way, but not given to numba.  A
+function of the model that a kernel formula calls but that implements no formula of its own (a step of
+an algorithm, such as the one-dimensional minimiser of :func:`selfalign.model.parts.chain_minimiser`) is
+marked with :func:`kernel_helper`: registered with numba the same way, not indexed.
 Marking imports nothing: ``import selfalign`` stays light.
 
 Every mark says what the function implements, one of:
@@ -36,6 +39,8 @@ from dataclasses import dataclass
 FORMULAS: list = []
 #: Every marked function (kernel and vectorised) of the modules imported so far, in definition order.
 TAGGED: list = []
+#: Every function marked with :func:`kernel_helper`: compiled with the kernel formulas, not indexed.
+HELPERS: list = []
 
 
 @dataclass(frozen=True)
@@ -73,6 +78,14 @@ def formula(func=None, *, eqs=(), unnumbered=None, kernel=True):
             FORMULAS.append(f)
         return f
     return mark
+
+
+def kernel_helper(func):
+    """Mark ``func`` (returned unchanged) as a step of a kernel formula that implements no formula of its
+    own: :func:`selfalign.solvers.jit.kernel` registers it with numba with :data:`FORMULAS`, so that the
+    compiled formulas call it compiled; it is not in the equation index."""
+    HELPERS.append(func)
+    return func
 
 
 def name(func) -> str:

@@ -3,7 +3,8 @@
 numba is imported here and nowhere else at import time of a solver call, so that
 ``import selfalign`` stays light.  :func:`kernel`:
 
-* registers the model formulas (:mod:`selfalign.model.registry`) and the profile-row layout
+* registers the model formulas and their helpers (:mod:`selfalign.model.registry`; those of several
+  parts too, which :mod:`selfalign.solvers.parts_moreau` compiles with its own stepper) and the profile-row layout
   (:data:`selfalign.solvers.records.LAYOUT`) with numba, so the kernel calls those very functions
   compiled;
 * keeps numba's on-disk cache (``cache=True``) in a directory keyed by the content of
@@ -36,8 +37,9 @@ from ..model.errors import SelfalignError
 #: module of the package it imports, directly or not (tests/test_jit.py checks the closure).
 SOURCES = tuple(f"solvers/engine/{name}.py" for name in (
     "entries", "codes", "compiled", "recording", "field", "piecewise", "smooth", "jerk_zone", "timestepping", "drive",
-    "python_stepper", "dense")) + ("solvers/records.py", "solvers/outcomes.py", "model/arcs.py", "model/friction.py",
-                                   "model/registry.py", "model/errors.py")
+    "python_stepper", "dense", "parts")) + ("solvers/records.py", "solvers/outcomes.py", "model/arcs.py",
+                                            "model/friction.py", "model/parts.py", "model/registry.py",
+                                            "model/errors.py")
 #: The logger that announces a compilation (and how long it took).
 LOGGER = logging.getLogger(__name__)
 #: Wall time of compiling the entry points of one solver run on an empty cache, as told to the
@@ -100,11 +102,11 @@ def kernel():
     except ImportError as exc:
         raise KernelError(f"the exact and Moreau solvers run compiled code and need numba: {exc}; "
                           "install it with `pip install numba`") from None
-    from ..model import arcs, friction  # noqa: F401  (they fill the registry)
-    from ..model.registry import FORMULAS
+    from ..model import arcs, friction, parts  # noqa: F401  (they fill the registry)
+    from ..model.registry import FORMULAS, HELPERS
     from . import records
 
-    for func in FORMULAS:
+    for func in FORMULAS + HELPERS:
         register_jitable(func)
     for func in records.LAYOUT:
         register_jitable(func)

@@ -66,7 +66,6 @@ a part may not pass through its neighbour within one step.
 from __future__ import annotations
 
 import functools
-import inspect
 from dataclasses import dataclass
 
 import numpy as np
@@ -338,22 +337,18 @@ def _borrowed(array):
 
 @functools.cache
 def _stepper():
-    """:func:`_advance` compiled by numba (once per process), with the model functions it calls registered
-    as compilable (:func:`selfalign.solvers.jit.kernel` registers the friction formulas; the chain
-    minimiser and the model functions it calls are registered here)."""
+    """:func:`_advance` compiled by numba (once per process), calling the model functions compiled
+    (:func:`selfalign.solvers.jit.kernel` registers them: the friction formulas, the chain minimiser and its
+    helper)."""
     from .jit import KernelError, kernel
 
     kernel()
     from numba import njit
     from numba.core.errors import NumbaError
-    from numba.extending import overload, register_jitable
+    from numba.extending import overload
 
-    from ..model.registry import FORMULAS
     from .engine.compiled import borrowed
 
-    for func in _model_closure(chain_minimiser):
-        if func not in FORMULAS:
-            register_jitable(func)
     overload(_borrowed)(lambda array: lambda array: borrowed(array))
     compiled = njit(nogil=True, error_model="numpy")(_advance)
 
@@ -364,21 +359,3 @@ def _stepper():
             first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
             raise KernelError(f"the Moreau stepper of several parts failed to compile: {first}") from exc
     return advance
-
-
-def _model_closure(func) -> list:
-    """``func`` and every function of its module it calls, directly or not (the functions numba must
-    compile with it)."""
-    found, todo = [], [func]
-    while todo:
-        f = todo.pop()
-        if f in found:
-            continue
-        found.append(f)
-        for name in f.__code__.co_names:
-            g = f.__globals__.get(name)
-            if inspect.isfunction(g) and g.__module__ == func.__module__:
-                todo.append(g)
-    return found
-
-

@@ -14,19 +14,20 @@ Layout
 * :mod:`.recording`: arcs, events and samples of a recorded run;
 * the steppers, one module each: :mod:`.piecewise` (exact, piecewise-constant profiles),
   :mod:`.smooth` (exact, Fourier and finite-jerk profiles on a uniform surface),
-  :mod:`.jerk_zone` (exact, finite-jerk profiles on a stop zone), :mod:`.timestepping` (Moreau);
+  :mod:`.jerk_zone` (exact, finite-jerk profiles on a stop zone), :mod:`.timestepping` (Moreau),
+  :mod:`.parts` (exact, several parts on a piecewise-constant profile: its own state and run loop);
 * :mod:`.drive`: the driver loop and the outcome decisions;
 * :mod:`.entries`: the entry points Python calls, one per method (and one per specialisation, such
   as the piecewise stepper for members on a uniform surface), and the stepper registration;
 * :mod:`.python_stepper`: the driver's decisions for a stepper written in Python (ivp);
 * :mod:`.dense`: dense output of the recorded arcs.
 
-Every trajectory is one :data:`~selfalign.solvers.records.MEMBER_DTYPE` record (its inputs,
-working state and outcome); :func:`.drive.run_members` drives each member of an array of them,
-the same code for one trajectory (``selfalign.simulate``) and for a batch, so scalar and batch
-results are bit-identical by construction.  Positions are relative to an origin (x_mu on a stop
-zone, else x0), so that x_mu = 1e6 costs no accuracy in the zone; time is (period n, tau in
-[0, dt)), period boundaries at the start phase tau0.
+Every trajectory of one part is one :data:`~selfalign.solvers.records.MEMBER_DTYPE` record (its
+inputs, working state and outcome; several parts on one table: below); :func:`.drive.run_members`
+drives each member of an array of them, the same code for one trajectory (``selfalign.simulate``)
+and for a batch, so scalar and batch results are bit-identical by construction.  Positions are
+relative to an origin (x_mu on a stop zone, else x0), so that x_mu = 1e6 costs no accuracy in the
+zone; time is (period n, tau in [0, dt)), period boundaries at the start phase tau0.
 
 The stepper contract
 --------------------
@@ -74,10 +75,37 @@ and returns ``STOP_NONFINITE`` through :func:`.field.stop_nonfinite` with the st
 of the period that failed.  A stepper never decides an outcome itself, never allocates, and
 keeps the tie rules below.
 
-A new stepper (several parts, planar motion) is a module with its ``period_<name>`` function,
+A new stepper of one member (planar motion, say) is a module with its ``period_<name>`` function,
 a method code in :mod:`selfalign.solvers.records` and one line in :func:`.drive.step`, the
 dispatch; the driver specialises on the method code (a compile-time constant), so a run
-compiles only the stepper it uses.
+compiles only the stepper it uses.  A stepper whose state is not one member's, as that of
+several parts, has its own state arrays and run loop (below).
+
+The stepper of several parts
+----------------------------
+Several parts on one table (:mod:`selfalign.solvers.parts_exact`) are one coupled state, not a
+batch of members, so :mod:`.parts` does not take a member record.  It has its own state arrays
+and its own run loop, :func:`.parts.run_parts`, called through the entry point
+:func:`.entries.parts_run`:
+
+    ``parts_run(f, g, q, c, row, periods, max_events) -> reason``
+
+* ``f`` (float, rows x N), ``g`` (int, rows x N): one column per part, the rows named in
+  :mod:`.codes` (``PX``, ``PV``, ... ``PSIGMA``, ``PJOINED``, ...); on entry the start state (x
+  relative to x_mu on a stop zone, v, widths, masses, friction factors, transition slopes), on
+  return the end state, the clusters, and the events per part (``PSTICKS``, ``PSLIPS``,
+  ``PIMPACTS``, ``POPENINGS``, ``PCROSSINGS``); the rest is the stepper's scratch (the caller
+  allocates it: the loop allocates nothing);
+* ``q`` (float), ``c`` (int): the run's scalars and counters (restitution, c_mu, the tie-rule
+  floors, the profile's extreme y'', the start phase tau0; the end time, the events per kind);
+* ``row``: the profile row of a piecewise-constant profile; the run starts at phase tau0 with
+  the period boundaries at tau0 + n dt, as a member does.
+
+It returns the reason code (:class:`~selfalign.solvers.outcomes.Reason`): PERIODS, REST,
+MAX_EVENTS or STALL.  Its outcome decision is REST only, made by the stepper itself
+(:func:`.parts.at_rest`: every part at rest and no y'' of the profile moves any cluster); the
+driver's other decisions (cycles, accumulation, fast-forward) are not made for several parts,
+and the caller checks that the end state is finite (NONFINITE).
 
 Tie rules of the exact solver
 -----------------------------

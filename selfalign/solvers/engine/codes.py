@@ -8,6 +8,7 @@ from __future__ import annotations
 import math
 
 from ...model import arcs as A
+from ...model.parts import CHAIN_WORK_ROWS, IMPACT_WORK_ROWS
 from ..outcomes import EventKind, Reason
 
 INF = math.inf
@@ -45,3 +46,29 @@ ARC_QUADRATIC, ARC_HARMONIC, ARC_HYPERBOLIC, ARC_STICK, ARC_SMOOTH = (A.QUADRATI
 
 # What ends a slip arc: the end of its piece (or step), v = 0, or a zone edge reached.
 END_PIECE, END_STOP, END_EDGE = 0, 1, 2
+
+
+# The stepper of several parts (:mod:`.parts`, :mod:`selfalign.solvers.parts_exact`).  Its tie-rule
+# thresholds: a gap between clusters within CONTACT_ULPS ulp of the positions' scale counts as closed (tie
+# rule 4); a relative velocity at a closed contact within VELOCITY_ULPS ulp of the velocity scale counts as
+# zero (tie rule 5, the Zeno floor); accelerations of touching neighbours within ACCELERATION_ULPS ulp of the
+# force scale count as equal (tie rule 6); a closing search on a stop zone's arcs takes at most SEARCH_STEPS
+# steps.
+CONTACT_ULPS, VELOCITY_ULPS, ACCELERATION_ULPS, SEARCH_STEPS = 16, 64, 8, 10_000
+# Its state is three arrays the caller allocates, one column per part: rows of a float array ...
+(PX, PV, PW, PM, PK, PSLOPE, PA, POMEGA, PKAPPA, PB, PS, POUT, PLOWER, PLAND) = range(14)
+PWORK = 14                                       # first of the scratch rows of chain_minimiser, impact_velocities
+PARTS_FLOAT_ROWS = PWORK + max(CHAIN_WORK_ROWS, IMPACT_WORK_ROWS)
+# ... rows of an int array (flags are 0/1; the lists hold the parts or contacts of the next event) ...
+(PSIGMA, PKIND, POLD_SIGMA, PJOINED, PDIRTY, PALL_JOINED, PTOUCHING, PCLOSED, PTOGETHER, PWAS_JOINED, PIS_STOP,
+ PIS_CLOSE, PIS_OPEN, PLANDS, PLIST_STOPS, PLIST_CLOSES, PLIST_CROSSINGS, PLIST_OPENS, PSTICKS, PSLIPS, PIMPACTS,
+ POPENINGS, PCROSSINGS) = range(23)
+PARTS_INT_ROWS = 23
+# ... and the run's scalars: settings (restitution, c_mu, the scales and floors, the profile's extreme y'',
+# the start phase) and results (end time, smallest gap relative to the positions' scale after any event) ...
+(QE, QC_MU, QLENGTH, QV_FLOOR, QA_TOL, QHIGHEST, QLOWEST, QTAU0, QT_END, QMIN_GAP) = range(10)
+PARTS_SCALARS = 10
+# ... and counters: the surface (1: stop zone), the events per kind, the list lengths (stops, closes,
+# crossings, opens).
+(CZONE, CSTICKS, CSLIPS, CIMPACTS, COPENINGS, CBREAKS, CLISTS) = range(7)
+PARTS_COUNTERS = CLISTS + 4

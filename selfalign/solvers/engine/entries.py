@@ -1,8 +1,8 @@
 """The engine's entry points, the functions Python calls (:func:`selfalign.solvers.jit.kernel`
 returns this module): the driver for batches and recorded runs, one entry point per method
 (:data:`MEMBER_RUNS`, :data:`RECORDED_RUNS`, so that a call from Python reaches compiled code
-without specialising on the method at every call), the decisions a Python stepper calls, and
-dense output.
+without specialising on the method at every call), the run of several parts on one table
+(:func:`parts_run`), the decisions a Python stepper calls, and dense output.
 
 A new stepper registers here: its method code in the two tables, with one entry point each.
 """
@@ -10,9 +10,10 @@ A new stepper registers here: its method code in the two tables, with one entry 
 from __future__ import annotations
 
 from ..records import EXACT_PIECEWISE, EXACT_SMOOTH, MOREAU
-from .compiled import jit
+from .compiled import borrowed, jit
 from .dense import modes, sample_arcs
 from .drive import run_members, run_recorded
+from .parts import run_parts
 from .python_stepper import after_period_entry, begin_entry, finish_entry, moved_entry, stick_entry
 
 
@@ -59,6 +60,13 @@ def recorded_moreau(members, table, run, bnd, cross, hist, arcs, events, samples
     run_recorded(members, MOREAU, table, run, bnd, cross, hist, arcs, events, samples, steps)
 
 
+@jit
+def parts_run(f, g, q, c, row, periods, max_events):
+    """:func:`~.parts.run_parts`: the exact stepper of several parts, on its own state arrays (not member
+    records; :mod:`selfalign.solvers.engine`, the stepper contract); returns the reason code."""
+    return run_parts(borrowed(f), borrowed(g), borrowed(q), borrowed(c), borrowed(row), periods, max_events)
+
+
 #: Method code -> the entry point that drives every member without recording.
 MEMBER_RUNS = {EXACT_PIECEWISE: members_piecewise, EXACT_SMOOTH: members_smooth, MOREAU: members_moreau}
 #: Method code -> the entry point for members that are all on a uniform surface, where one is compiled.
@@ -79,4 +87,4 @@ def member_run(code, members):
 
 
 __all__ = ["MEMBER_RUNS", "RECORDED_RUNS", "UNIFORM_MEMBER_RUNS", "after_period_entry", "begin_entry", "finish_entry",
-           "member_run", "modes", "moved_entry", "sample_arcs", "stick_entry"]
+           "member_run", "modes", "moved_entry", "parts_run", "sample_arcs", "stick_entry"]
