@@ -187,6 +187,11 @@ def small_config(repo: Path) -> dict:
     s["optimal_motion"].update(accel_max=300.0, orders=[4], max_iter=3, truncation_orders=[4, 12],
                                accel_sweep=axis(300.0, 300.0, 1), fourier_accel_max=[300.0],
                                stroke_sweep=axis(0.021, 0.021, 1), fourier_stroke_max=[0.021])
+    # Queues of one and two parts; the SI queue on the one design the small run designs.
+    s["parts"].update(n_max=2, spacings=[0.05], restitutions=[0.0], spreads=[0.0], max_periods=200,
+                      motion={"n": 2, "spacing": 0.05, "restitution": 0.0},
+                      design={**s["parts"]["design"], "spec": s["design"]["designs"][-1], "n_max": 2,
+                              "max_periods": 50})
     return config
 
 
@@ -204,7 +209,7 @@ def run_small_pipeline(repo: Path, workdir: Path) -> tuple[list[str], int, str]:
     targets += [f"results/accumulation/{n}.h5" for n in ("fig16", "fig17", "fig18")]
     targets += [f"results/design/{name}.h5" for name in s["design"]["designs"]]
     targets += ["results/effects/static_friction.h5", "results/effects/stribeck.h5",
-                "results/finite_jerk/finite_jerk.h5"]
+                "results/finite_jerk/finite_jerk.h5", "results/parts/queue.h5"]
     rc, out = run_snakemake(workdir, "-c2", timeout=PIPELINE_TIMEOUT)
     return targets, rc, out
 

@@ -63,7 +63,6 @@ def test_scene_files_take_parts_and_round_trip():
 
 @pytest.mark.parametrize("change, words", [
     ({"x0": 0.1}, "each Part carries its own start"),
-    ({"phase": 0.25}, "starts at phase 0"),
     ({"parts": []}, "at least one Part"),
     ({"parts": [sa.Part(0.0, width=W), sa.Part(0.02, width=W)]}, r"parts\[1\] overlaps parts\[0\]"),
     ({"restitution": 1.5}, r"restitution must be a number in \[0, 1\]"),
@@ -160,3 +159,48 @@ def test_the_cli_simulates_a_scene_file_of_several_parts(tmp_path):
     stored = trajectory_from_result(read_h5(out))
     expected = sa.simulate(scene)
     assert stored.x_end.tolist() == expected.x_end.tolist() and stored.status is sa.Status.REST
+    assert stored.info["part_sticks"].tolist() == expected.info["part_sticks"].tolist()
+    assert stored.info["sticks"] == expected.info["sticks"] > 0
+
+
+def test_a_start_phase_shifts_both_solvers_of_several_parts():
+    """Hypothesis (Scene.phase: the parts' x0, v0 hold at t = phase dt, period boundaries there): parts far
+    apart started at phase 0.3 end as the single part started at phase 0.3 does, each, to 1e-12 (exact)
+    and to Moreau's first-order error (dt/2000); the end time is the single part's too.  Started at another
+    phase the end state differs, so the phase reaches the solvers."""
+    parts = [sa.Part(0.0, width=W), sa.Part(5.0, 0.1, width=W)]
+    for method, options, tol in (("exact", {}, 1e-12), ("moreau", {"steps_per_period": 2000}, 2e-3)):
+        traj = sa.simulate(sa.Scene(PROFILE, parts=parts, periods=7, phase=0.3, method=method,
+                                    solver_options=options))
+        for part, x, v in zip(parts, traj.x_end, traj.v_end):
+            alone = sa.simulate(sa.Scene(PROFILE, x0=part.x0, v0=part.v0, periods=7, phase=0.3))
+            assert abs(x - alone.x_end) <= tol and abs(v - alone.v_end) <= tol, (method, x, alone.x_end)
+        assert (traj.period_end, traj.tau_end) == (7, pytest.approx(0.3 * PROFILE.dt, rel=1e-15))
+        other = sa.simulate(sa.Scene(PROFILE, parts=parts, periods=7, phase=0.6, method=method,
+                                     solver_options=options))
+        assert np.max(np.abs(other.x_end - traj.x_end)) > 10 * tol
+
+
+def test_events_per_part_reach_the_trajectory():
+    """The exact solver's events per part (docs/explanation/several-parts.md, "Outcomes") are in the
+    Trajectory's info as arrays of shape (N,): a pushed pair on a uniform surface sticks together, so both
+    parts count every stick of the run, and every contact event counts for both of its parts."""
+    traj = sa.simulate(sa.Scene(PROFILE, parts=[sa.Part(0.0, width=W), sa.Part(0.05, width=W)], periods=5))
+    assert traj.info["part_sticks"].tolist() == [traj.info["sticks"]] * 2 and traj.info["sticks"] >= 5
+    assert traj.info["part_impacts"].shape == traj.info["part_crossings"].shape == (2,)
+    apart = sa.simulate(sa.Scene(PROFILE, parts=PARTS, restitution=0.5, periods=6))
+    assert apart.info["part_impacts"].tolist() == [apart.info["impacts"]] * 2 and apart.info["impacts"] >= 5
+
+
+def test_the_parts_held_for_good_are_flagged_part_by_part():
+    """Hypothesis (docs/explanation/several-parts.md, "Outcomes": the rest decision cluster by cluster): a part
+    whose factor k = 3 exceeds max|y''| = 2.2 is held for good where it starts; a part of factor 1 far
+    behind it walks on (not held); parts held for good when the whole run ends with REST are all flagged, and
+    a pushed pair resting in the stop zone (the pooled bound) is flagged as a whole."""
+    parts = [sa.Part(0.0, width=W), sa.Part(5.0, width=W, friction_factor=3.0)]
+    traj = sa.simulate(sa.Scene(PROFILE, parts=parts, periods=4))
+    assert traj.info["part_held"].tolist() == [False, True] and traj.x_end[1] == 5.0
+    pair = sa.simulate(sa.Scene(PROFILE, sa.StopZone(0.5, W, 2.5), parts=[sa.Part(0.35, width=W),
+                                                                          sa.Part(0.40, width=W)],
+                                until="rest", max_periods=400))
+    assert pair.status is sa.Status.REST and pair.info["part_held"].tolist() == [True, True]

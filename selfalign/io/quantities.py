@@ -57,6 +57,7 @@ LABELS = {
     "si_time": "s (SI)",
     "si_velocity": "m/s (SI)",
     "si_acceleration": "m/s^2 (SI)",
+    "si_rate": "1/s (SI)",
 }
 
 MODE_LEGEND = dict(MODE_NAMES)
@@ -191,6 +192,14 @@ QUANTITIES: dict[str, Quantity] = {
     "events/acc_before": Quantity("acceleration", "relative acceleration x'' just before each event"),
     "events/acc_after": Quantity("acceleration", "relative acceleration x'' just after each event"),
     "stats/cpu_time": Quantity("cpu_time", "CPU time of the simulate call", measurement=True),
+    "info/part_sticks": Quantity("count", "stick events of each part (several parts, rear-most first)"),
+    "info/part_slips": Quantity("count", "slip starts of each part (several parts, rear-most first)"),
+    "info/part_impacts": Quantity("count", "contact closings each part took part in (rear-most first)"),
+    "info/part_openings": Quantity("count", "contact openings each part took part in (rear-most first)"),
+    "info/part_crossings": Quantity("count", "crossings of each part's transition boundaries, x_mu and "
+                                             "x_mu + w (rear-most first)"),
+    "info/part_held": Quantity("boolean", "each part sticks for good at the end: its cluster is at rest and no "
+                                          "table acceleration of the profile moves it (rear-most first)"),
     # accuracy study (selfalign.analysis.accuracy)
     "moreau/h": Quantity("time", "Moreau step h = dt / n of each run"),
     "moreau/steps_per_period": Quantity("count", "Moreau steps per period n of each run"),
@@ -427,6 +436,51 @@ QUANTITIES.update({
                                {1: "holds", 0: "fails", -1: "eq. 59 does not apply"}),
     "map/frac_accumulate": Quantity("number", "fraction of the entries that accumulate at the nominal mu"),
     "map/frac_stop": Quantity("number", "fraction of the entries that come to rest at the nominal mu"),
+})
+
+
+_QUEUE_STATUS = {0: "rest", 1: "settled", 2: "horizon", 3: "error"}
+#: The queue study of several parts at the stop zone (selfalign.analysis.queue, docs/explanation/queue.md).
+QUANTITIES.update({
+    "queue/x_single": Quantity("length", "rest position of one part from the front part's start (simulated)"),
+    "queue/tolerance": Quantity("length", "the front part counts as at the single-part position within this"),
+    "queue/x_mu": Quantity("length", "start x_mu of the stop zone"),
+    "queue/spacing": Quantity("length", "the axis: gap between neighbouring parts at t = 0"),
+    "queue/restitution": Quantity("number", "the axis: Newton's coefficient of restitution e"),
+    "queue/spread": Quantity("number", "the axis: half range of the friction factors k_i"),
+    "queue/n": Quantity("count", "the axis: number of parts N"),
+    "queue/x_end": Quantity("length", "end front position of each part, the front-most first (NaN beyond N)"),
+    "queue/error": Quantity("length", "end front position minus the single-part rest position, the front-most "
+                                      "first"),
+    "queue/pooled": Quantity("length", "front position of each part at the pooled rest of the touching cluster "
+                                       "(mass-weighted mean of k_i mu_bar_i = max|y''|), the front-most first"),
+    "queue/friction_factor": Quantity("number", "friction factor k_i of each part, the front-most first"),
+    "queue/status": Quantity("code", "how the queue's run ended", _QUEUE_STATUS),
+    "queue/t_end": Quantity("time", "time of rest (or settling, or the horizon) of the queue"),
+    "queue/periods": Quantity("count", "periods simulated"),
+    "queue/events": Quantity("count", "events of the exact solver"),
+    "queue/front_at_single": Quantity("boolean", "the front part ends at the single-part rest position (within "
+                                                 "the tolerance)"),
+    "queue/in_zone": Quantity("count", "parts whose front ends past x_mu"),
+    "queue/front_through": Quantity("boolean", "the front part ends past x_mu + w, or the queue does not come "
+                                               "to rest"),
+    "queue_motion/t": Quantity("time", "period ends of the recorded queue"),
+    "queue_motion/x": Quantity("length", "front position of each part at the period ends, the rear-most first"),
+    "queue_motion/width": Quantity("length", "width of each part"),
+    "design_queue/n": Quantity("count", "the axis: number of parts N"),
+    "design_queue/x_end": Quantity("si_length", "end front position of each part past the strip's edge, the "
+                                                "front-most first (NaN beyond N)"),
+    "design_queue/error": Quantity("si_length", "end front position minus the single part's, the front-most "
+                                                "first"),
+    "design_queue/t_aligned": Quantity("si_time", "time from the start after which each part stays within the "
+                                                  "spec's tolerance of its end position, the front-most first"),
+    "design_queue/throughput": Quantity("si_rate", "parts aligned per second: N over the last part's t_aligned"),
+    "design_queue/status": Quantity("code", "how the queue's run ended", _QUEUE_STATUS),
+    "design_queue/x_single": Quantity("si_length", "rest position of one part past the strip's edge (simulated)"),
+    "design_queue/x_stick_min": Quantity("si_length", "x_stick_min (eq. 41) past the strip's edge"),
+    "design_queue/width": Quantity("si_length", "width of each part (the spec's)"),
+    "design_queue/spacing": Quantity("si_length", "gap between neighbouring parts at t = 0"),
+    "design_queue/tolerance": Quantity("si_length", "the spec's positioning tolerance"),
 })
 
 

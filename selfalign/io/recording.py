@@ -42,6 +42,16 @@ class LogEntries(NamedTuple):
     levels: list[str]
 
 
+class Boxes(NamedTuple):
+    """Axis-aligned boxes moving along x (several parts on one line): ``centres`` x of each box at each time,
+    shape (times, boxes); ``half_widths`` per box, shape (boxes,); ``half_height`` their common half height
+    (the boxes sit on y = 0).  Drawn in a 2-D view, one entity per name."""
+
+    centres: np.ndarray
+    half_widths: np.ndarray
+    half_height: float
+
+
 def default_groups(names) -> dict[str, list[str]]:
     """One plot per first path segment: "position/table" and "position/part" share a plot."""
     groups: dict[str, list[str]] = {}
@@ -75,7 +85,8 @@ class Recording:
     * ``period``: the period length; if given, every time also gets its period number
       floor(t / period) on the sequence timeline :data:`PERIOD_TIMELINE`;
     * ``view_titles``: plot (first path segment of series and markers) -> title; titled plots
-      come first, in this order, then the others in order of appearance.
+      come first, in this order, then the others in order of appearance;
+    * ``boxes``: name -> :class:`Boxes` at ``times``, drawn in one 2-D view per first path segment.
 
     The default blueprint stacks one time-series view per plot vertically (so that they share
     the time axis, linked), beside the documents and one text-log view of all logs.
@@ -90,6 +101,7 @@ class Recording:
     documents: dict[str, tuple[str, str]] = field(default_factory=dict)
     view_titles: dict[str, str] = field(default_factory=dict)
     application_id: str = "selfalign"
+    boxes: dict[str, Boxes] = field(default_factory=dict)
 
     def __post_init__(self):
         times = _check_times("times", self.times)
@@ -119,7 +131,18 @@ class Recording:
             if not isinstance(text, str) or media_type not in MEDIA_TYPES:
                 raise ValueError(f"document {_check_name('document', name)!r} must be (text, media type) with a "
                                  f"media type of {list(MEDIA_TYPES)}, got ({type(text).__name__}, {media_type!r})")
-        entities = [*series, *markers, *logs, *self.documents]
+        boxes = {}
+        for name, (centres, half_widths, half_height) in self.boxes.items():
+            centres, half_widths = np.asarray(centres, float), np.asarray(half_widths, float)
+            _check_name("boxes", name)
+            if centres.ndim != 2 or centres.shape[0] != times.size or half_widths.shape != centres.shape[1:]:
+                raise ValueError(f"boxes {name!r}: centres must have shape (times, boxes) = "
+                                 f"({times.size}, n) and half_widths (n,), got {centres.shape} and "
+                                 f"{half_widths.shape}")
+            if not (np.all(np.isfinite(centres)) and np.all(half_widths > 0) and half_height > 0):
+                raise ValueError(f"boxes {name!r}: centres must be finite, half_widths and half_height > 0")
+            boxes[name] = Boxes(centres, half_widths, float(half_height))
+        entities = [*series, *markers, *logs, *self.documents, *boxes]
         repeated = sorted({n for n in entities if entities.count(n) > 1})
         if repeated:
             raise ValueError(f"entity name(s) {repeated} used twice (series, markers, logs and documents)")
@@ -128,7 +151,8 @@ class Recording:
             raise ValueError(f"view_titles name plots that are not recorded: {unknown}")
         if self.period is not None and not (np.isfinite(self.period) and self.period > 0):
             raise ValueError(f"period must be a positive finite number or None, got {self.period!r}")
-        for key, value in (("times", times), ("series", series), ("markers", markers), ("logs", logs)):
+        for key, value in (("times", times), ("series", series), ("markers", markers), ("logs", logs),
+                           ("boxes", boxes)):
             object.__setattr__(self, key, value)
 
     def plots(self) -> dict[str, str]:
@@ -153,7 +177,8 @@ class Recording:
         linked = rrb.archetypes.TimeAxis(link=rrb.components.LinkAxis.LinkToGlobal)
         plots = rrb.Vertical(*(rrb.TimeSeriesView(name=title, origin=f"/{plot}", axis_x=linked)
                                for plot, title in self.plots().items()))
-        side = [rrb.TextDocumentView(name=name, origin=f"/{name}") for name in self.documents]
+        side = [rrb.Spatial2DView(name=scene, origin=f"/{scene}") for scene in default_groups(self.boxes)]
+        side += [rrb.TextDocumentView(name=name, origin=f"/{name}") for name in self.documents]
         if self.logs:
             side.append(rrb.TextLogView(name="log", origin="/", contents=[f"/{name}" for name in self.logs]))
         if not side:
@@ -185,6 +210,12 @@ def write_recording(path, recording: Recording) -> Path:
                 rec.log(f"/{name}", rr.SeriesPoints(markers="circle", marker_sizes=4.0), static=True)
                 rec.send_columns(f"/{name}", indexes=recording.indexes(at),
                                  columns=rr.Scalars.columns(scalars=values))
+            for name, (centres, half_widths, half_height) in recording.boxes.items():
+                count = centres.shape[1]
+                xy = np.stack([centres.ravel(), np.full(centres.size, half_height)], axis=1)
+                half = np.stack([np.tile(half_widths, centres.shape[0]), np.full(centres.size, half_height)], axis=1)
+                rec.send_columns(f"/{name}", indexes=index, columns=rr.Boxes2D.columns(
+                    centers=xy, half_sizes=half).partition(lengths=np.full(centres.shape[0], count)))
             for name, entries in recording.logs.items():
                 rec.send_columns(f"/{name}", indexes=recording.indexes(entries.times),
                                  columns=rr.TextLog.columns(text=entries.texts, level=entries.levels))
@@ -290,4 +321,16 @@ def read_documents(path) -> dict[str, str]:
         if "TextDocument:text" in batch.schema.names:
             (text,) = batch.column("TextDocument:text").flatten().to_pylist()
             out[chunk.entity_path.lstrip("/")] = text
+    return out
+
+
+def read_boxes(path, *, timeline: str = "time") -> dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """Boxes of an rrd file: name -> (index, centres (times, boxes, 2), half sizes (times, boxes, 2)), sorted by
+    index.  Used to check what a recording holds."""
+    out = {}
+    for name, (index, (centres, half)) in _timed(path, timeline, "Boxes2D:centers", "Boxes2D:half_sizes").items():
+        count = int(centres.value_lengths().to_numpy(zero_copy_only=False)[0])
+        shape = (index.size, count, 2)
+        out[name] = (index, np.asarray(centres.flatten().flatten().to_numpy(zero_copy_only=False)).reshape(shape),
+                     np.asarray(half.flatten().flatten().to_numpy(zero_copy_only=False)).reshape(shape))
     return out

@@ -18,7 +18,8 @@ Layout (docs/reference/results.md):
   steps, ...) except ``cpu_time``, a measured value, which is the dataset
   ``stats/cpu_time`` (marked ``measurement = True``: the one content of the
   file that differs between two runs); group ``info``: likewise for
-  ``Trajectory.info``;
+  ``Trajectory.info``, whose arrays (the events per part of a scene with several parts, shape (N,),
+  rear-most first) are datasets;
 * group ``series`` (only if the scene recorded series): one dataset per series
   (``t`` plus the recorded names), attribute ``samples_per_period``;
 * group ``events`` (only if the scene recorded the event log): the columns of
@@ -106,7 +107,9 @@ def trajectory_content(traj: Trajectory, scene: Scene) -> tuple[dict, dict, dict
     }
     stats = dict(traj.stats)
     measured = {name: np.float64(stats.pop(name)) for name in MEASURED_STATS if name in stats}
-    groups = {"stats": {"attrs": stats, "datasets": measured}, "info": {"attrs": dict(traj.info)}}
+    per_part = {name: np.asarray(value) for name, value in traj.info.items() if np.ndim(value) == 1}
+    info = {name: value for name, value in traj.info.items() if name not in per_part}
+    groups = {"stats": {"attrs": stats, "datasets": measured}, "info": {"attrs": info, "datasets": per_part}}
     if traj.series:
         groups["series"] = {"datasets": {k: np.asarray(v) for k, v in traj.series.items()},
                             "attrs": {"samples_per_period": int(scene.record.samples_per_period)}}
@@ -138,7 +141,7 @@ def trajectory_from_result(result: dict) -> Trajectory:
         period_end=a["period_end"], tau_end=a["tau_end"],
         status=Status(a["status"]), reason=Reason[a["reason"].upper()], message=a["message"], method=a["method"],
         options=dict(a["options"]),
-        series=series, events=events, info=dict(g["info"]["attrs"]),
+        series=series, events=events, info={**g["info"]["attrs"], **g["info"].get("datasets", {})},
         stats={**g["stats"]["attrs"], **{k: float(v) for k, v in g["stats"]["datasets"].items()}},
     )
 

@@ -158,8 +158,8 @@ class Scene:
         Several parts on the table instead of the paper's one (:class:`~selfalign.Part`, the rear-most first,
         not overlapping; docs/explanation/several-parts.md): each carries its own start x0, v0, so the
         scene's ``x0`` and ``v0`` stay 0, and on a stop zone each part's width must be the zone's body width
-        ``w``.  The start phase is 0, the friction law Coulomb's, and nothing is recorded besides the end
-        state.  Stored as a tuple.  Default None: the paper's single part.
+        ``w``.  The friction law is Coulomb's, and nothing is recorded besides the end state (and, with
+        the exact solver, the events per part).  Stored as a tuple.  Default None: the paper's single part.
     restitution : float, optional
         Newton's coefficient of restitution e in [0, 1] of the contacts between ``parts`` (0 plastic, 1
         elastic).  Default 0.
@@ -180,8 +180,8 @@ class Scene:
         If ``x0``, ``v0`` or ``phase`` is not finite or ``phase`` lies outside [0, 1); the
         horizon is missing, gives both ``periods`` and ``until="rest"``, or its counts are
         not integers in [1, 2**53]; ``method`` is unknown; the recording would need more
-        than 2 GiB; ``parts`` is empty, overlapping, or comes with a start, phase, friction law or record
-        it cannot have; or ``restitution`` lies outside [0, 1] or comes without ``parts``.
+        than 2 GiB; ``parts`` is empty, overlapping, or comes with a start, friction law or record it
+        cannot have; or ``restitution`` lies outside [0, 1] or comes without ``parts``.
 
     See Also
     --------
@@ -275,8 +275,6 @@ class Scene:
         if self.x0 != 0.0 or self.v0 != 0.0:
             raise SceneError("x0, v0: with parts each Part carries its own start (Part(x0, v0, ...)); leave the "
                              "scene's x0 and v0 at 0")
-        if self.phase != 0.0:
-            raise SceneError(f"phase = {self.phase!r}: a scene with parts starts at phase 0")
         if self.friction.kind != "coulomb":
             raise SceneError(f"friction: a scene with parts simulates Coulomb friction only, got "
                              f"{self.friction.kind!r}")

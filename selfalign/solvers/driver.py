@@ -171,19 +171,20 @@ def simulate(scene: Scene, method: str | None = None, **options) -> Trajectory:
 
 def _simulate_parts(scene: Scene, method: str, given: dict) -> Trajectory:
     """A scene with several parts through its solver (:mod:`.parts_exact` or :mod:`.parts_moreau`), as a
-    Trajectory whose x_end, v_end have shape (N,)."""
-    from .parts_exact import simulate_parts
+    Trajectory whose x_end, v_end have shape (N,); the exact solver's events and rest flags per part are in
+    ``info`` (``part_sticks``, ..., ``part_held`` of :class:`~.parts_exact.PartsResult`, arrays of shape (N,))."""
+    from .parts_exact import PART_EVENTS, PER_PART, simulate_parts
     from .parts_moreau import moreau_parts
 
     options = check_scene(scene, method, given)
-    dt, n = scene.profile.dt, len(scene.parts)
+    dt, n, tau0 = scene.profile.dt, len(scene.parts), scene.phase * scene.profile.dt
     cpu0 = time.process_time()
     if method == "exact":
         run = simulate_parts(scene.profile, scene.parts, surface=scene.surface, restitution=scene.restitution,
-                             periods=scene.horizon_periods, max_events=options["max_events"])
+                             periods=scene.horizon_periods, phase=scene.phase, max_events=options["max_events"])
         stats, used = {"events": run.events, "steps": 0}, {"max_events": options["max_events"]}
-        info = {"sticks": run.sticks, "slips": run.slips, "impacts": run.impacts, "openings": run.openings,
-                "breaks": run.breaks}
+        info = {name: getattr(run, name) for name in PART_EVENTS}
+        info.update({"part_" + name: getattr(run, "part_" + name) for name in PER_PART})
         reason = run.reason
         if reason.status is not Status.ERROR and scene.until == "periods":
             reason = Reason.PERIODS         # at rest for good before the horizon: nothing moves after it
@@ -192,14 +193,14 @@ def _simulate_parts(scene: Scene, method: str, given: dict) -> Trajectory:
     else:
         steps, h = moreau.moreau_step(dt, options)
         run = moreau_parts(scene.profile, scene.parts, surface=scene.surface, restitution=scene.restitution,
-                           periods=scene.horizon_periods, steps_per_period=steps)
+                           periods=scene.horizon_periods, phase=scene.phase, steps_per_period=steps)
         stats, used, info = {"events": 0, "steps": run.steps}, {"steps_per_period": steps, "h": h}, {
             "max_overlap": run.max_overlap}
         reason = Reason.PERIODS
     if reason in (Reason.PERIODS, Reason.MAX_PERIODS):
-        period_end, tau_end = scene.horizon_periods, 0.0
+        period_end, tau_end = scene.horizon_periods, tau0
     else:
-        period_end = int(run.t_end // dt)
+        period_end = int((run.t_end - tau0) // dt)          # whole periods from the start phase, as one part's
         tau_end = run.t_end - period_end * dt
     if reason.status is Status.ERROR:
         text = run.message

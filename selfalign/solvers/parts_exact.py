@@ -104,6 +104,10 @@ from .tables import kernel_row
 
 #: Default event budget of :func:`simulate_parts`.
 MAX_EVENTS = 10_000_000
+#: The event kinds a :class:`PartsResult` counts in total (attributes of these names; ``events`` is their sum).
+PART_EVENTS = ("sticks", "slips", "impacts", "openings", "breaks")
+#: What it holds per part (attributes ``part_<name>``, arrays of shape (N,)): the events per kind and the rest flag.
+PER_PART = ("sticks", "slips", "impacts", "openings", "crossings", "held")
 
 _EPS = np.finfo(float).eps
 
@@ -127,6 +131,8 @@ class PartsResult:
         The events per kind (Attributes).
     part_sticks, part_slips, part_impacts, part_openings, part_crossings : numpy.ndarray
         The events per part (Attributes).
+    part_held : numpy.ndarray
+        Which parts stick for good at the end (Attributes).
     reason : Reason
         Why the run ended (Attributes).
     message : str
@@ -162,6 +168,10 @@ class PartsResult:
     part_crossings : numpy.ndarray
         Per part: its zone crossings, where it reached a boundary of its transition (x_mu or x_mu + w_i), to
         enter it or leave it (0 on a uniform surface); they are not counted in ``events``.
+    part_held : numpy.ndarray
+        Per part, bool: it sticks for good at ``t_end``: its cluster (the run of touching parts it belongs to)
+        is at rest and no table acceleration of the profile moves it (the rest decision, cluster by cluster).
+        All True where ``reason`` is ``REST``.
     reason : Reason
         ``PERIODS`` (the periods asked for are done), ``REST`` (every part sticks for good: no table
         acceleration of the profile moves a part alone or a cluster of parts pushed together), or
@@ -183,8 +193,8 @@ class PartsResult:
     >>> result.status.value, result.events == sum((result.sticks, result.slips, result.impacts, result.openings,
     ...                                             result.breaks))
     ('horizon', True)
-    >>> result.part_sticks.tolist() == [result.sticks], result.part_crossings.tolist()
-    (True, [0])
+    >>> result.part_sticks.tolist() == [result.sticks], result.part_crossings.tolist(), result.part_held.tolist()
+    (True, [0], [False])
     """
 
     t_end: float
@@ -200,6 +210,7 @@ class PartsResult:
     part_impacts: np.ndarray
     part_openings: np.ndarray
     part_crossings: np.ndarray
+    part_held: np.ndarray
     reason: Reason
     message: str = ""
 
@@ -211,7 +222,7 @@ class PartsResult:
     @property
     def events(self) -> int:
         """All events counted, of every kind."""
-        return self.sticks + self.slips + self.impacts + self.openings + self.breaks
+        return sum(getattr(self, kind) for kind in PART_EVENTS)
 
 
 def _check_profile(profile) -> PiecewiseConstantProfile:
@@ -393,4 +404,5 @@ class _Chain:
                            impacts=int(c[C.CIMPACTS]), openings=int(c[C.COPENINGS]), breaks=int(c[C.CBREAKS]),
                            part_sticks=self.g[C.PSTICKS].copy(), part_slips=self.g[C.PSLIPS].copy(),
                            part_impacts=self.g[C.PIMPACTS].copy(), part_openings=self.g[C.POPENINGS].copy(),
-                           part_crossings=self.g[C.PCROSSINGS].copy(), reason=reason, message=message)
+                           part_crossings=self.g[C.PCROSSINGS].copy(), part_held=self.g[C.PHELD] == 1,
+                           reason=reason, message=message)

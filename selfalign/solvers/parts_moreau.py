@@ -70,7 +70,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..model.errors import check_integer
+from ..model.errors import check_integer, check_real
 from ..model.friction import FrictionLaw, StopZone, Uniform, coefficient
 from ..model.parts import CHAIN_WORK_ROWS, chain_minimiser, check_parts, check_restitution
 from ..model.profiles import Profile
@@ -104,7 +104,7 @@ class PartsMoreauResult:
     Attributes
     ----------
     t_end : float
-        The end time, ``periods`` times the period dt (the run starts at t = 0).
+        The end time, (phase + periods) times the period dt (the run starts at t = phase dt).
     x_end : numpy.ndarray
         Front positions x_i at ``t_end``, shape (N,), rear-most part first.
     v_end : numpy.ndarray
@@ -117,7 +117,7 @@ class PartsMoreauResult:
         The largest overlap -g_i = x_i - (x_{i+1} - w_{i+1}) of neighbours at the end of any step (0 if
         none ever overlapped): the scheme's penetration, O(h) (module docstring).
     t : numpy.ndarray or None
-        Sample times (every ``sample_every`` steps from t = 0), or None without samples.
+        Sample times (every ``sample_every`` steps from the start), or None without samples.
     x : numpy.ndarray or None
         Positions at the sample times, shape (samples, N), or None.
     v : numpy.ndarray or None
@@ -147,7 +147,7 @@ class PartsMoreauResult:
     v: np.ndarray | None = None
 
 
-def moreau_parts(profile, parts, *, surface=None, restitution=0.0, periods, steps_per_period=1000,
+def moreau_parts(profile, parts, *, surface=None, restitution=0.0, periods, phase=0.0, steps_per_period=1000,
                  sample_every=None, friction=None) -> PartsMoreauResult:
     """Simulate N parts on one vibrating table with Moreau's midpoint time-stepping.
 
@@ -171,10 +171,13 @@ def moreau_parts(profile, parts, *, surface=None, restitution=0.0, periods, step
         Newton's coefficient e in [0, 1] of the contacts between parts.  Default 0 (plastic).
     periods : int
         Number of periods to simulate, >= 1.
+    phase : float, optional
+        The start time as a fraction of the period, in [0, 1) (as ``Scene.phase``): the parts' ``x0``, ``v0``
+        hold at t = phase dt and the run ends at (phase + periods) dt.  Default 0.
     steps_per_period : int, optional
         Moreau steps per period N (the step is h = dt / N); in [1, 10,000,000].  Default 1000.
     sample_every : int, optional
-        Record the state every this many steps (from t = 0); default None: the end state only.
+        Record the state every this many steps (from the start); default None: the end state only.
     friction : FrictionLaw, optional
         Only the paper's Coulomb law (the default) is implemented.
 
@@ -227,6 +230,9 @@ def moreau_parts(profile, parts, *, surface=None, restitution=0.0, periods, step
                          f"kind {friction.kind!r}")
     e = check_restitution(restitution)
     periods = check_integer("periods", periods)
+    phase = check_real("phase", phase)
+    if not 0.0 <= phase < 1.0:
+        raise ValueError(f"phase must lie in [0, 1) (fraction of the period), got {phase!r}")
     n_steps = check_integer("steps_per_period", steps_per_period, 1, M.MAX_STEPS_PER_PERIOD)
     every = None if sample_every is None else check_integer("sample_every", sample_every)
     check_moreau_work(n_steps, periods, "periods")
@@ -237,7 +243,7 @@ def moreau_parts(profile, parts, *, surface=None, restitution=0.0, periods, step
         raise ValueError(f"sample_every = {every}: {samples:,} samples of {n} parts would take more than "
                          f"{MAX_SAMPLE_BYTES / 1024**3:g} GiB; sample less often or shorten the run")
     n_steps, h = M.steps_per_period(profile.dt, profile.dt / n_steps)
-    impulse = M.table_impulses(profile, 0.0, n_steps, h)
+    impulse = M.table_impulses(profile, phase, n_steps, h)
     M.check_swing_seen(profile, n_steps, impulse)
 
     x = np.array([p.x0 for p in parts])
@@ -257,12 +263,12 @@ def moreau_parts(profile, parts, *, surface=None, restitution=0.0, periods, step
                       np.empty((CHAIN_WORK_ROWS, n)))
     t = None
     if every is not None:
-        t = np.arange(samples) * (every * h)
+        t = phase * profile.dt + np.arange(samples) * (every * h)
         for a in (t, xs, vs):
             a.flags.writeable = False
     for a in (x, v):
         a.flags.writeable = False
-    return PartsMoreauResult(t_end=periods * profile.dt, x_end=x, v_end=v, steps=total, h=h,
+    return PartsMoreauResult(t_end=(phase + periods) * profile.dt, x_end=x, v_end=v, steps=total, h=h,
                              max_overlap=float(overlap), t=t, x=None if every is None else xs,
                              v=None if every is None else vs)
 
@@ -337,12 +343,15 @@ def _borrowed(array):
 
 @functools.cache
 def _stepper():
-    """:func:`_advance` compiled by numba (once per process), calling the model functions compiled
+    """:func:`_advance` compiled by numba, calling the model functions compiled
     (:func:`selfalign.solvers.jit.kernel` registers them: the friction formulas, the chain minimiser and its
-    helper)."""
-    from .jit import KernelError, kernel
+    helper), and kept in the kernel's cache directory (:func:`selfalign.solvers.jit.cache_dir`, keyed by the
+    content of the model's sources; numba itself checks this file's time stamp), so that a later process
+    loads it."""
+    from .jit import KernelError, cache_dir, kernel
 
     kernel()
+    import numba
     from numba import njit
     from numba.core.errors import NumbaError
     from numba.extending import overload
@@ -350,7 +359,12 @@ def _stepper():
     from .engine.compiled import borrowed
 
     overload(_borrowed)(lambda array: lambda array: borrowed(array))
-    compiled = njit(nogil=True, error_model="numpy")(_advance)
+    previous = numba.config.CACHE_DIR
+    numba.config.CACHE_DIR = str(cache_dir(numba.__version__))
+    try:
+        compiled = njit(nogil=True, error_model="numpy", cache=True)(_advance)
+    finally:
+        numba.config.CACHE_DIR = previous
 
     def advance(*args):
         try:

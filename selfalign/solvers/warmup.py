@@ -8,8 +8,8 @@ first (``selfalign compile``, :func:`warm_up`) lets every later process load the
 
 Each warm-up in :data:`WARMUPS` is a run of a few periods through the public solvers that reaches one
 group of entry points: the exact solver on piecewise-constant and on smooth profiles, Moreau, each with
-and without recording, batches on a uniform surface, solve_ivp's compiled decisions, and Moreau for
-several parts.  They are independent, so that processes can share the work (each takes the warm-ups
+and without recording, batches on a uniform surface, solve_ivp's compiled decisions, and the two solvers
+of several parts.  They are independent, so that processes can share the work (each takes the warm-ups
 no other has started: tests/conftest.py).
 """
 
@@ -61,6 +61,9 @@ WARMUPS: dict[str, tuple[str, Callable[[], object]]] = {
     "batch_uniform": ("batches on a uniform surface",
                       lambda: simulate_batch(_three_phase(), [0.0, 0.1], until="periods", periods=2)),
     "ivp": ("solve_ivp's compiled decisions", lambda: simulate(_scene(_three_phase()), method="ivp")),
+    "parts_exact": ("the exact solver of several parts",
+                    lambda: simulate(_scene(_three_phase(), parts=[Part(-0.1, width=0.05), Part(0.0, width=0.05)]),
+                                     method="exact")),
     "parts_moreau": ("Moreau time-stepping of several parts",
                      lambda: simulate(_scene(_three_phase(), parts=[Part(-0.1, width=0.05), Part(0.0, width=0.05)]),
                                       method="moreau", steps_per_period=20)),

@@ -62,8 +62,8 @@ PARTS_FLOAT_ROWS = PWORK + max(CHAIN_WORK_ROWS, IMPACT_WORK_ROWS)
 # ... rows of an int array (flags are 0/1; the lists hold the parts or contacts of the next event) ...
 (PSIGMA, PKIND, POLD_SIGMA, PJOINED, PDIRTY, PALL_JOINED, PTOUCHING, PCLOSED, PTOGETHER, PWAS_JOINED, PIS_STOP,
  PIS_CLOSE, PIS_OPEN, PLANDS, PLIST_STOPS, PLIST_CLOSES, PLIST_CROSSINGS, PLIST_OPENS, PSTICKS, PSLIPS, PIMPACTS,
- POPENINGS, PCROSSINGS) = range(23)
-PARTS_INT_ROWS = 23
+ POPENINGS, PCROSSINGS, PHELD) = range(24)
+PARTS_INT_ROWS = 24
 # ... and the run's scalars: settings (restitution, c_mu, the scales and floors, the profile's extreme y'',
 # the start phase) and results (end time, smallest gap relative to the positions' scale after any event) ...
 (QE, QC_MU, QLENGTH, QV_FLOOR, QA_TOL, QHIGHEST, QLOWEST, QTAU0, QT_END, QMIN_GAP) = range(10)

@@ -41,6 +41,7 @@ from .codes import (
     PCLOSED,
     PCROSSINGS,
     PDIRTY,
+    PHELD,
     PIMPACTS,
     PIS_CLOSE,
     PIS_OPEN,
@@ -546,23 +547,47 @@ def settle(f, g, q, c, zone, n, ay, start, everything, instant):
 
 
 @jit
+def held(f, g, q, zone, first, last):
+    """The touching parts first..last stick for good: at rest, and the mode selection (:func:`decide`, b = -y'',
+    the stick bounds) gives them zero accelerations under the largest and the smallest y'' of the profile, and so
+    under every y'' between (its solution is monotone in b)."""
+    for j in range(first, last + 1):
+        if f[PV, j] != 0.0 or f[PA, j] != 0.0:
+            return False
+    for ay in (q[QHIGHEST], q[QLOWEST]):
+        decide(f, g, q, zone, first, last, ay, POUT)
+        for j in range(first, last + 1):
+            if f[POUT, j] != 0.0:
+                return False
+    return True
+
+
+@jit
 def at_rest(f, g, q, zone, n):
-    """Every part sticks for good: at rest, no table acceleration of the profile moves any cluster.  The mode
-    selection (:func:`decide`, b = -y'', the stick bounds) gives zero accelerations under the largest and the
-    smallest y'' of the profile, and so under every y'' between (its solution is monotone in b)."""
+    """Every part sticks for good (:func:`held`, cluster by cluster): no table acceleration of the profile moves
+    any cluster."""
     for j in range(n):
         if f[PV, j] != 0.0 or f[PA, j] != 0.0:
             return False
     first = 0
     while first < n:
         last = run_end(g, PJOINED, first, n)
-        for ay in (q[QHIGHEST], q[QLOWEST]):
-            decide(f, g, q, zone, first, last, ay, POUT)
-            for j in range(first, last + 1):
-                if f[POUT, j] != 0.0:
-                    return False
+        if not held(f, g, q, zone, first, last):
+            return False
         first = last + 1
     return True
+
+
+@jit
+def mark_held(f, g, q, zone, n):
+    """Row PHELD: 1 for each part whose cluster sticks for good (:func:`held`), else 0."""
+    first = 0
+    while first < n:
+        last = run_end(g, PJOINED, first, n)
+        flag = 1 if held(f, g, q, zone, first, last) else 0
+        for j in range(first, last + 1):
+            g[PHELD, j] = flag
+        first = last + 1
 
 
 # -- the run --------------------------------------------------------------------------------------------------
@@ -574,6 +599,14 @@ def events(c):
 
 @jit
 def run_parts(f, g, q, c, row, periods, max_events):
+    """:func:`advance_parts`, then row PHELD of the end state (:func:`mark_held`).  Returns the reason code."""
+    code = advance_parts(f, g, q, c, row, periods, max_events)
+    mark_held(f, g, q, c[CZONE] != 0, f.shape[1])
+    return code
+
+
+@jit
+def advance_parts(f, g, q, c, row, periods, max_events):
     """Run the parts from the start phase tau0 (``q[QTAU0]``, the period boundaries at tau0 + n dt) over
     ``periods`` periods of the piecewise-constant profile ``row``, or until every part is at rest for good, the
     event budget ``max_events`` is used up, or more than STALL_EVENTS events of zero length follow one another.
