@@ -21,6 +21,7 @@ from pathlib import Path
 
 import numpy as np
 import reference
+import siconos_parts
 import yaml
 
 from selfalign.analysis.positioning import MEMORY_LIMIT, positioning_bytes, positioning_grid
@@ -302,6 +303,21 @@ def design_answer(spec: Path = DESIGN_SPEC, repeat: int = 3, families: list | No
     return {"spec": spec.stem, "command_s": command, "warm_s": warm, "found": bool(result.found)}
 
 
+def siconos_work_precision(tiny: bool = False, figure: Path | None = None) -> dict:
+    """Work-precision of several parts against Siconos on the accuracy stage's scenes of several parts
+    (``siconos_parts.work_precision``: Siconos with theta = 1/2 and 1, ``moreau_parts`` at the same h, the
+    exact solver; docs/explanation/siconos-parts.md), its figure written to ``figure`` (None: none) and its
+    caption; ``{"skipped": reason}`` where Siconos cannot be run (a benchmark-only dependency)."""
+    missing = siconos_parts.siconos_missing()
+    if missing:
+        return {"skipped": missing}
+    report = (siconos_parts.work_precision(levels=(250, 500), shifts=1) if tiny
+              else siconos_parts.work_precision())
+    report["caption"] = siconos_parts.work_precision_caption(report)
+    report["figure"] = None if figure is None else str(siconos_parts.plot_work_precision(report, figure))
+    return report
+
+
 def full_pipeline(repo: Path, cores: int = 2, timeout: float = 900.0) -> dict:
     """Wall time and peak memory of ``snakemake -c<cores>`` from a clean results/ in a copy of the workflow.
 
@@ -326,8 +342,9 @@ def full_pipeline(repo: Path, cores: int = 2, timeout: float = 900.0) -> dict:
             "children_max_rss_mb": resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024}
 
 
-def run(repo: Path | None = None, tiny: bool = False, cores: int = 2) -> dict:
-    """Every benchmark once; `tiny` shrinks all sizes (for tests), `repo` None skips the pipeline."""
+def run(repo: Path | None = None, tiny: bool = False, cores: int = 2, figure: Path | None = None) -> dict:
+    """Every benchmark once; `tiny` shrinks all sizes (for tests), `repo` None skips the pipeline, `figure`
+    is where the work-precision figure against Siconos goes (None: not drawn)."""
     if tiny:
         moreau_args, single, sweep, latency, fig17 = ({"periods": 5, "tolerances": (1e-2,), "steps": (100, 1000),
                                                        "repeat": 1}, (200, 1), (8, (2,), 1), 20, (9, 8, 1))
@@ -345,6 +362,7 @@ def run(repo: Path | None = None, tiny: bool = False, cores: int = 2) -> dict:
               "first_call": first_call(cold=not tiny),
               "fig17": fig17_sweep(*fig17),
               "design": design_answer(repeat=1, families=["three_phase"]) if tiny else design_answer(),
+              "siconos_parts": siconos_work_precision(tiny, figure),
               "pipeline": full_pipeline(repo, cores) if repo is not None else None}
     report["max_rss_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     return report
@@ -392,6 +410,7 @@ def format_table(report: dict) -> str:
     lines.append(f"| design answer, `workflow/designs/{d['spec']}.yaml` | `selfalign design` (fresh process) "
                  f"{d['command_s']:.1f} s; `sa.design` in a warm process {d['warm_s']:.2f} s; design found: "
                  f"{d['found']} |")
+    lines += _siconos_rows(report["siconos_parts"])
     p = report["pipeline"]
     if p is not None:
         lines.append(f"| full pipeline `snakemake -c{p['cores']}`, clean results/ | {p['seconds']:.1f} s, "
@@ -399,3 +418,29 @@ def format_table(report: dict) -> str:
                      f"{p['children_max_rss_mb']:.0f} MB |")
     lines.append(f"| peak memory of the benchmark process (ru_maxrss) | {report['max_rss_mb']:.0f} MB |")
     return "\n".join(lines)
+
+
+def _siconos_rows(s: dict) -> list[str]:
+    """The rows of :func:`siconos_work_precision`: per scene its exact solver and fitted orders, per scene and
+    step the errors and CPU times side by side with the ratios, and the figure's caption; or why it was
+    skipped."""
+    if "skipped" in s:
+        return [f"| several parts against Siconos (work-precision) | skipped: {s['skipped']} |"]
+    lines = []
+    for name, scene in s["scenes"].items():
+        label = {m: style[0] for m, style in siconos_parts.WORK_PRECISION_STYLE.items()}
+        orders = ", ".join(f"{label[m]} {order:.2f}" for m, order in scene["orders"].items())
+        lines.append(f"| several parts against Siconos, `{name}` ({scene['parts']} parts, e = "
+                     f"{scene['restitution']:g}, {scene['periods']} periods) | exact solver "
+                     f"{scene['reference_cpu'] * 1e3:.1f} ms; fitted orders: {orders} |")
+        ratios = {r["steps_per_period"]: r for r in scene["ratios"]}
+        by_step = {}
+        for row in scene["rows"]:
+            by_step.setdefault(row["steps_per_period"], {})[row["method"]] = row
+        for n, rows in by_step.items():
+            side = "; ".join(f"{label[m]} {row['error']:.2e} in {row['cpu']:.4f} s" for m, row in rows.items())
+            lines.append(f"| `{name}`, h = dt/{n}: error, CPU | {side}; Siconos (theta = 1/2) / moreau_parts: CPU "
+                         f"{ratios[n]['cpu_ratio']:.0f}x, error {ratios[n]['error_ratio']:.3f} |")
+    where = f"`{s['figure']}`" if s["figure"] else "figure (not drawn)"
+    lines.append(f"| {where} | {s['caption']} |")
+    return lines

@@ -2,7 +2,8 @@
 
 Run from the repository top:  .venv/bin/python benchmarks/run_all.py [--no-pipeline] [--tiny] [--json FILE]
 Exact vs Moreau at equal accuracy, single-trajectory events/s, batched sweep throughput
-next to the arithmetic bound, the full `snakemake -c2` pipeline from a clean results/
+next to the arithmetic bound, the work-precision of several parts against Siconos (its figure to
+results/benchmarks/parts_work_precision.png), the full `snakemake -c2` pipeline from a clean results/
 (in a temporary copy of the workflow), and peak memory, with the machine description.
 The measurements are `benchmarks/measure.py`; the workflow runs the same via
 `snakemake -c2 benchmarks`.
@@ -26,7 +27,8 @@ def main(argv=None) -> dict:
     parser.add_argument("--cores", type=int, default=2, help="cores of the pipeline run (default 2)")
     parser.add_argument("--json", type=Path, help="also write the raw numbers to this file")
     args = parser.parse_args(argv)
-    report = measure.run(None if args.no_pipeline else REPO, tiny=args.tiny, cores=args.cores)
+    report = measure.run(None if args.no_pipeline else REPO, tiny=args.tiny, cores=args.cores,
+                         figure=REPO / "results" / "benchmarks" / "parts_work_precision.png")
     print(measure.format_table(report))
     if args.json:
         args.json.write_text(json.dumps(report, indent=2))

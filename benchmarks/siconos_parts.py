@@ -30,6 +30,13 @@ process around one run (Siconos: the model's construction and its time loop; mor
 first call that compiled it), without interpreter start or imports, the mean over the grids. Siconos runs
 with theta = 1/2 and, as a variant on the scenes of one and two parts, theta = 1.
 
+The work-precision comparison on the accuracy stage's scenes of several parts (``stages: accuracy: scenes``
+of workflow/config/config.yaml whose scene file has ``parts:``, e.g. workflow/scenes/accuracy_parts.yaml):
+Siconos with theta = 1/2 and theta = 1, ``moreau_parts`` at the same steps h = dt / n and the exact solver,
+error (the largest |x_i - x_i,ref| at the end) against CPU time, with the ratios of Siconos to
+``moreau_parts`` at each h, and a figure of it (:func:`work_precision`, :func:`plot_work_precision`; the
+benchmark table of ``snakemake -c2 benchmarks`` carries it, benchmarks/measure.py).
+
 Also measured: Newton's cradle in Siconos (three equal parts, e = 1, the front contact closed or 1e-12
 open), and the chain of 10 with MoreauJeanOSI's contact threshold 0 (the default) and 1e-13.
 """
@@ -46,6 +53,7 @@ from pathlib import Path
 import numpy as np
 
 import selfalign as sa
+from selfalign import load_scene
 from selfalign.model.parts import Part
 from selfalign.solvers.parts_exact import simulate_parts
 from selfalign.solvers.parts_moreau import moreau_parts
@@ -62,6 +70,14 @@ LEVELS = (250, 500, 1000, 2000, 4000, 8000, 16000)
 SHIFTS = 5
 #: Moreau-Jean's theta: 0.5 makes its position update the paper's midpoint rule (docs/explanation/siconos-parts.md).
 THETA = 0.5
+#: Scenes of at most this many parts run Siconos with theta = 1 too (the chain of 10 does not: 30 s a run).
+THETA_ONE_MAX_PARTS = 3
+#: Steps per period of the work-precision comparison on the accuracy stage's scenes.
+WORK_PRECISION_LEVELS = (250, 500, 1000, 2000, 4000, 8000, 16000)
+#: Methods of the work-precision figure: label, marker, colour.
+WORK_PRECISION_STYLE = {"siconos": ("Siconos, theta = 1/2", "o", "tab:green"),
+                        "siconos, theta = 1": ("Siconos, theta = 1", "s", "tab:olive"),
+                        "moreau_parts": ("moreau_parts (selfalign)", "^", "tab:blue")}
 
 
 def _two_parts():
@@ -73,14 +89,28 @@ def _chain(n=10, width=0.0625):
     return [Part(i * width, width=width, friction_factor=float(factors[i])) for i in range(n)]
 
 
-#: name -> (parts, restitution, surface)
+def _scene(parts, restitution=0.0, surface=None):
+    return sa.Scene(PROFILE, surface or sa.Uniform(), parts=parts, restitution=restitution, periods=PERIODS)
+
+
+#: name -> scene
 SCENES = {
-    "one part": ([Part(0.0, width=0.05)], 0.0, None),
-    "two parts, e = 0": (_two_parts(), 0.0, None),
-    "two parts, e = 0.5": (_two_parts(), 0.5, None),
-    "chain of 10": (_chain(), 0.0, None),
-    "two parts, stop zone": (_two_parts(), 0.0, sa.StopZone(x_mu=0.5, w=0.05, c_mu=2.5)),
+    "one part": _scene([Part(0.0, width=0.05)]),
+    "two parts, e = 0": _scene(_two_parts()),
+    "two parts, e = 0.5": _scene(_two_parts(), 0.5),
+    "chain of 10": _scene(_chain()),
+    "two parts, stop zone": _scene(_two_parts(), surface=sa.StopZone(x_mu=0.5, w=0.05, c_mu=2.5)),
 }
+
+
+def accuracy_scenes(config=REPO / "workflow" / "config" / "config.yaml") -> dict:
+    """The scenes of the accuracy stage (``stages: accuracy: scenes`` of ``config``) that have several parts,
+    name -> scene, loaded from their files in workflow/scenes."""
+    import yaml
+
+    names = yaml.safe_load(Path(config).read_text())["stages"]["accuracy"]["scenes"]
+    loaded = {name: load_scene(REPO / "workflow" / "scenes" / f"{name}.yaml") for name in names}
+    return {name: scene for name, scene in loaded.items() if scene.parts is not None}
 
 
 def siconos_missing() -> str | None:
@@ -103,7 +133,7 @@ def job(parts, *, restitution, surface=None, periods=PERIODS, steps_per_period, 
                         "dt": float(profile.dt)},
             "parts": [{"x0": p.x0, "v0": p.v0, "width": p.width, "mass": p.mass, "friction_factor": p.friction_factor}
                       for p in parts],
-            "surface": None if surface is None else {"x_mu": surface.x_mu, "c_mu": surface.c_mu},
+            "surface": {"x_mu": surface.x_mu, "c_mu": surface.c_mu} if isinstance(surface, sa.StopZone) else None,
             "restitution": float(restitution), "periods": int(periods), "steps_per_period": int(steps_per_period),
             "theta": float(theta), "activation_threshold": float(activation_threshold)}
 
@@ -117,13 +147,17 @@ def run_siconos(runs: list[dict]) -> dict:
     return json.loads(done.stdout)
 
 
-def reference(parts, restitution, surface, periods=PERIODS):
-    """(end positions, CPU s) of the exact solver on a scene."""
-    start = time.process_time()
-    result = simulate_parts(PROFILE, parts, surface=surface, restitution=restitution, periods=periods)
+def reference(scene, repeats=3):
+    """(end positions, CPU s: the fastest of ``repeats`` runs) of the exact solver on a scene."""
+    best = float("inf")
+    for _ in range(repeats):
+        start = time.process_time()
+        result = simulate_parts(scene.profile, scene.parts, surface=scene.surface, restitution=scene.restitution,
+                                periods=scene.horizon_periods)
+        best = min(best, time.process_time() - start)
     if result.status != "horizon":
         raise RuntimeError(f"the exact solver ended with {result.status}: {result.message}")
-    return np.asarray(result.x_end), time.process_time() - start
+    return np.asarray(result.x_end), best
 
 
 def fit_order(h, error) -> float:
@@ -135,8 +169,9 @@ def fit_order(h, error) -> float:
     return float(np.polyfit(np.log(h[keep]), np.log(error[keep]), 1)[0])
 
 
-def measure(scenes=tuple(SCENES), levels=LEVELS, periods=PERIODS, shifts=SHIFTS) -> dict:
-    """The work-precision table of every scene (module docstring).
+def measure(scenes=None, levels=LEVELS, shifts=SHIFTS) -> dict:
+    """The work-precision table of every scene (module docstring); ``scenes``: name -> scene (default
+    :data:`SCENES`), each of a piecewise-constant profile for a number of periods.
 
     At each level n every method runs with n, n + 1, ..., n + shifts - 1 steps per period: where the
     profile's breaks and the parts' events fall inside a step changes the error of a first-order scheme
@@ -145,21 +180,24 @@ def measure(scenes=tuple(SCENES), levels=LEVELS, periods=PERIODS, shifts=SHIFTS)
     of the end positions from moreau_parts' on the same grid (``to_moreau``).  The order is fitted to
     the largest errors."""
     moreau_parts(PROFILE, _two_parts(), periods=1)          # compiles the stepper
-    report = {"profile": PROFILE.params(), "periods": periods, "shifts": shifts, "scenes": {}}
-    for name in scenes:
-        parts, e, surface = SCENES[name]
-        x_ref, ref_cpu = reference(parts, e, surface, periods)
+    scenes = SCENES if scenes is None else scenes
+    report = {"profile": PROFILE.params(), "periods": PERIODS, "shifts": shifts, "scenes": {}}
+    for name, scene in scenes.items():
+        parts, e, surface, periods = scene.parts, scene.restitution, scene.surface, scene.horizon_periods
+        x_ref, ref_cpu = reference(scene)
         grids = [n + j for n in levels for j in range(shifts)]
         ends = {"moreau_parts": [], "siconos": []}
         for n in grids:
             start = time.process_time()
-            result = moreau_parts(PROFILE, parts, surface=surface, restitution=e, periods=periods,
+            result = moreau_parts(scene.profile, parts, surface=surface, restitution=e, periods=periods,
                                   steps_per_period=n)
             ends["moreau_parts"].append((result.x_end, time.process_time() - start, {}))
-        methods = {"siconos": THETA} if len(parts) > 2 else {"siconos": THETA, "siconos, theta = 1": 1.0}
+        methods = {"siconos": THETA, "siconos, theta = 1": 1.0}
+        if len(parts) > THETA_ONE_MAX_PARTS:
+            del methods["siconos, theta = 1"]
         for method, theta in methods.items():
             answer = run_siconos([job(parts, restitution=e, surface=surface, periods=periods, steps_per_period=n,
-                                      theta=theta) for n in grids])
+                                      theta=theta, profile=scene.profile) for n in grids])
             report["siconos_version"] = answer["version"]
             ends[method] = [(np.asarray(got["x_end"]), got["cpu"],
                              {"gs_iterations": got["gs_iterations"], "residual": got["residual"]})
@@ -178,7 +216,7 @@ def measure(scenes=tuple(SCENES), levels=LEVELS, periods=PERIODS, shifts=SHIFTS)
                              "residual": max((extra.get("residual", 0.0) for _, _, extra in block)),
                              "x_end": block[0][0].tolist()})
         orders = {m: fit_order(*zip(*[(r["h"], r["error"]) for r in rows if r["method"] == m])) for m in ends}
-        report["scenes"][name] = {"reference_cpu": ref_cpu, "x_ref": x_ref.tolist(),
+        report["scenes"][name] = {"reference_cpu": ref_cpu, "x_ref": x_ref.tolist(), "periods": periods,
                                   "restitution": e, "parts": len(parts), "rows": rows, "orders": orders}
     return report
 
@@ -207,7 +245,7 @@ def touching_chain(steps=(250, 500), threshold=1e-13) -> list[dict]:
     and with the threshold ``threshold``: the largest difference of the end positions from moreau_parts'.
     Siconos computes a gap from the positions, so touching parts can be apart by an ulp, their contact
     inactive for a step; moreau_parts carries the gaps and touching parts stay touching exactly."""
-    parts, e, _ = SCENES["chain of 10"]
+    parts, e = SCENES["chain of 10"].parts, SCENES["chain of 10"].restitution
     found = []
     for n in steps:
         ours = moreau_parts(PROFILE, parts, restitution=e, periods=PERIODS, steps_per_period=n).x_end
@@ -235,6 +273,67 @@ def format_table(report) -> str:
     return "\n".join(lines)
 
 
+def work_precision(scenes=None, levels=WORK_PRECISION_LEVELS, shifts=SHIFTS) -> dict:
+    """The work-precision comparison on the accuracy stage's scenes of several parts (default
+    :func:`accuracy_scenes`): :func:`measure` (every method on the same grids n, ..., n + shifts - 1 per
+    level: the largest error over them, the mean CPU time), and per scene and level the ratios of Siconos
+    (theta = 1/2) to ``moreau_parts``: CPU time (``cpu_ratio``) and error (``error_ratio``)."""
+    report = measure(accuracy_scenes() if scenes is None else scenes, levels, shifts=shifts)
+    for scene in report["scenes"].values():
+        ours = {row["steps_per_period"]: row for row in scene["rows"] if row["method"] == "moreau_parts"}
+        scene["ratios"] = [{"steps_per_period": row["steps_per_period"],
+                            "cpu_ratio": row["cpu"] / ours[row["steps_per_period"]]["cpu"],
+                            "error_ratio": row["error"] / ours[row["steps_per_period"]]["error"]}
+                           for row in scene["rows"] if row["method"] == "siconos"]
+    return report
+
+
+def work_precision_caption(report) -> str:
+    """The caption of the figure of :func:`work_precision` (one paragraph)."""
+    scenes = ", ".join(f"{name} ({scene['parts']} parts, e = {scene['restitution']:g}, {scene['periods']} periods)"
+                       for name, scene in report["scenes"].items())
+    levels = sorted({row["steps_per_period"] for scene in report["scenes"].values() for row in scene["rows"]})
+    grids = (f"the largest over the grids n ... n + {report['shifts'] - 1} steps per period, against the mean CPU "
+             f"time of one run" if report["shifts"] > 1 else "against the CPU time of one run")
+    return (f"Work-precision of several parts on the accuracy stage's scenes ({scenes}): the largest end-position "
+            f"error over the parts against the exact event-driven solver, {grids} (process time), log-log, one "
+            f"panel per scene. Green circles: Siconos' Moreau-Jean time-stepping "
+            f"with theta = 1/2; olive squares: theta = 1; blue triangles: moreau_parts; each at h = dt/n, "
+            f"n = {levels[0]} ... {levels[-1]} (the same grids for the three). Dashed vertical "
+            f"line: the CPU time of the exact solver, the reference. Siconos with theta = 1/2 takes the step "
+            f"of moreau_parts (the same errors) at a larger CPU time; CPU times are this machine's and differ "
+            f"from run to run.")
+
+
+def plot_work_precision(report, path: Path) -> Path:
+    """The figure of :func:`work_precision`, error against CPU time, written to ``path`` (PNG)."""
+    from matplotlib.figure import Figure
+
+    scenes = report["scenes"]
+    fig = Figure(figsize=(5.0 * len(scenes) + 0.6, 4.6), layout="constrained")
+    axes = fig.subplots(1, len(scenes), squeeze=False)[0]
+    for ax, (name, scene) in zip(axes, scenes.items()):
+        for method, (label, marker, color) in WORK_PRECISION_STYLE.items():
+            rows = [row for row in scene["rows"] if row["method"] == method]
+            if rows:
+                ax.loglog([row["cpu"] for row in rows], [row["error"] for row in rows], marker=marker,
+                          color=color, label=label, markersize=5, linewidth=1.0)
+        ax.axvline(scene["reference_cpu"], color="k", linestyle="--", linewidth=1.0,
+                   label="exact event-driven (reference)")
+        ax.set_title(f"{name}: {scene['parts']} parts, e = {scene['restitution']:g}", fontsize="small")
+        ax.set_xlabel("CPU time of one run [s]")
+        ax.text(0.03, 0.03, "\n".join(f"order, {WORK_PRECISION_STYLE[m][0]}: {order:.2f}"
+                                      for m, order in scene["orders"].items()),
+                transform=ax.transAxes, ha="left", va="bottom", fontsize="x-small")
+    axes[0].set_ylabel(r"end-position error, $\max_i |x_i - x_{i,\mathrm{ref}}|$")
+    handles, labels = axes[0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="outside lower center", ncols=4, frameon=False, fontsize="small")
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=150)
+    return path
+
+
 def main(argv=None) -> dict:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="steps dt/250 ... dt/1000 only")
@@ -245,7 +344,7 @@ def main(argv=None) -> dict:
     missing = siconos_missing()
     if missing:
         raise SystemExit(missing)
-    report = measure(tuple(args.scene or SCENES), LEVELS[:3] if args.quick else LEVELS)
+    report = measure({name: SCENES[name] for name in args.scene or SCENES}, LEVELS[:3] if args.quick else LEVELS)
     report["cradle"] = [cradle(gap) for gap in (0.0, 1e-12)]
     report["touching_chain"] = touching_chain()
     print(format_table(report))

@@ -151,8 +151,9 @@ def small_config(repo: Path) -> dict:
         return {"from": lo, "to": hi, "count": count, "scale": "linear"}
 
     # Trajectory and simulation scenes (milliseconds each) stay: the figures read them.
-    s["accuracy"].update(scenes=["accuracy_steady"], fit_min_steps_per_period=10, min_timing=0.001,
-                         moreau_steps_per_period={"from": 10, "to": 1000, "count": 3, "scale": "log"},
+    # One accuracy scene of one part and one of several parts (figures accuracy_cost and accuracy_parts).
+    s["accuracy"].update(scenes=["accuracy_steady", "accuracy_parts_zone"], fit_min_steps_per_period=10,
+                         min_timing=0.001, moreau_steps_per_period={"from": 10, "to": 1000, "count": 3, "scale": "log"},
                          ivp_rtol={"from": 1.0e-3, "to": 1.0e-5, "count": 2, "scale": "log"})
     s["stability"].update(scenes=["fig09_case1"], moreau_steps=[100], moreau_eps=[1.0e-3])
     s["stability"]["grids"] = {"fig17": {**s["stability"]["grids"]["fig17"], "y2": axis(0.3, 6.0),

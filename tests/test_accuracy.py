@@ -183,3 +183,108 @@ def test_result_layout_is_documented(repo, studies):
         assert f"`{name}`" in text, name
     for group in groups:
         assert f"group `{group}`" in text or f"`{group}`" in text, group
+
+
+@pytest.fixture(scope="module")
+def parts_studies():
+    """The studies of the two scenes with several parts on the small settings."""
+    from conftest import REPO
+
+    return {name: study(load_scene(REPO / f"workflow/scenes/{name}.yaml"), SMALL)
+            for name in ("accuracy_parts", "accuracy_parts_zone")}
+
+
+@pytest.mark.parametrize("name, band", [("accuracy_parts_zone", (0.8, 1.2)), ("accuracy_parts", (0.7, 1.2))])
+def test_moreau_of_several_parts_is_first_order(parts_studies, name, band):
+    """Moreau's time-stepping of several parts is first order (Sect. 4.1; docs/explanation/several-parts.md,
+    "Accuracy and speed": its end positions converge to the exact solver's with order 1).  The study fits
+    single grids h = dt/100 .. dt/1e5, whose error constant scatters with where the breaks and impacts fall
+    inside a step (the cross-check of tests/test_parts_crosscheck.py takes the envelope over six grids per
+    level instead): the fitted order of the largest end-position error over the parts lies in [0.8, 1.2]
+    for three parts pushed into the stop zone (measured 0.95) and in [0.7, 1.2] for two parts with 10
+    impacts at e = 0.5 on a uniform surface (measured 0.79; 0.90 over the pipeline's 21 grids, 1.0 over
+    dt/100 .. dt/1e6).  Three decades of h buy at least two of error."""
+    _, attrs, groups = parts_studies[name]
+    assert band[0] <= attrs["moreau_order"] <= band[1], attrs["moreau_order"]
+    assert attrs["moreau_fit_points"] >= 10
+    err = groups["moreau"]["datasets"]["err_end_position"]
+    assert np.all(np.isfinite(err)) and np.all(err > 0)
+    assert err[-1] < err[0] / 100
+
+
+@pytest.mark.parametrize("name, parts", [("accuracy_parts", 2), ("accuracy_parts_zone", 3)])
+def test_study_of_several_parts_takes_the_largest_error_over_the_parts(parts_studies, name, parts):
+    """The study of a scene with several parts stores each part's end position (one column per part), the
+    reference's per part, and as the error the largest |x_i(N) - x_i,ref(N)| over the parts (the maximum
+    norm, docs/explanation/solvers.md), recomputed here exactly."""
+    _, attrs, groups = parts_studies[name]
+    moreau = groups["moreau"]["datasets"]
+    assert attrs["parts"] == parts and len(attrs["x_ref_end"]) == parts and len(attrs["vbar_ref"]) == parts
+    assert moreau["x_end"].shape == (moreau["h"].size, parts)
+    np.testing.assert_array_equal(moreau["err_end_position"],
+                                  np.max(np.abs(moreau["x_end"] - attrs["x_ref_end"]), axis=1))
+    np.testing.assert_array_equal(moreau["err_vbar"], np.max(np.abs(moreau["vbar"] - attrs["vbar_ref"]), axis=1))
+    assert set(moreau["status"]) == {"horizon"} and set(moreau["fast_forward_periods"].tolist()) == {0}
+
+
+def test_study_of_several_parts_runs_no_ivp_and_says_why(parts_studies):
+    """solve_ivp cannot simulate several parts: the result has no group ivp and states the reason; the
+    exact solver's own CPU time and its events are stored as for one part."""
+    _, attrs, groups = parts_studies["accuracy_parts"]
+    assert "ivp" not in groups and "ivp_max_err_over_rtol" not in attrs
+    assert attrs["ivp_not_run"].startswith("solve_ivp is not run: method 'ivp' cannot simulate several parts")
+    assert groups["exact"]["datasets"]["cpu_time"] > 0
+    assert groups["exact"]["attrs"]["events"] == groups["exact"]["attrs"]["events_run_events"] > 0
+
+
+def test_result_of_several_parts_holds_their_count_and_units(parts_studies, tmp_path):
+    """The result file of a study of several parts holds the number of parts and the unit of every dataset
+    (docs/reference/results.md: lengths in L, velocities in L/T, CPU times in s, marked as measurements)."""
+    import h5py
+
+    datasets, attrs, groups = parts_studies["accuracy_parts_zone"]
+    path = write_h5(tmp_path / "parts.h5", datasets, attrs, groups)
+    back = read_h5(path)
+    assert back["attrs"]["parts"] == 3 and "ivp" not in back["groups"]
+    np.testing.assert_array_equal(back["attrs"]["x_ref_end"], attrs["x_ref_end"])
+    with h5py.File(path) as f:
+        units = {name: f[name].attrs["units"].split()[0] for name in ("moreau/x_end", "moreau/err_end_position",
+                                                           "moreau/err_vbar", "moreau/cpu_time", "exact/cpu_time")}
+        assert f["moreau/x_end"].shape == (groups["moreau"]["datasets"]["h"].size, 3)
+        assert bool(f["moreau/cpu_time"].attrs["measurement"])
+    assert units == {"moreau/x_end": "L", "moreau/err_end_position": "L", "moreau/err_vbar": "L/T",
+                     "moreau/cpu_time": "s", "exact/cpu_time": "s"}
+
+
+def test_study_of_several_parts_is_reproducible_apart_from_its_cpu_times(repo, tmp_path):
+    """A study of several parts run twice gives files equal up to the datasets marked as measurements (the
+    CPU times and what is computed from them; docs/reference/results.md), as for one part."""
+    from selfalign.io.hdf5 import measured_datasets, reproducible_bytes
+
+    tiny = StudySettings(moreau_steps_per_period=(10, 1000, 3), fit_min_steps_per_period=10, min_timing=1e-3)
+    scene = load_scene(repo / "workflow/scenes/accuracy_parts_zone.yaml")
+    paths = [write_h5(tmp_path / f"{run}.h5", *study(scene, tiny, progress="quiet")) for run in ("a", "b")]
+    assert measured_datasets(paths[0]) == sorted(
+        ["exact/cpu_time", "exact/events_run_cpu_time", "exact_events_per_second", "moreau/cpu_time",
+         "moreau_cpu_at_target", "speed_ratio_at_target"])
+    assert reproducible_bytes(paths[0]) == reproducible_bytes(paths[1])
+
+
+def test_figure_of_several_parts_says_ivp_was_not_run(studies, parts_studies, tmp_path):
+    """The figure accuracy_parts draws the studies of several parts with the same builder as accuracy_cost:
+    Moreau only, a panel per scene that says the errors are the largest over the parts and that solve_ivp
+    was not run; studies of one part and of several parts are not mixed in one figure."""
+    from selfalign.plots.simulation import figure_accuracy_cost
+
+    results = []
+    for name in ("accuracy_parts", "accuracy_parts_zone"):
+        results.append(read_h5(write_h5(tmp_path / f"{name}.h5", *parts_studies[name])))
+    fig = figure_accuracy_cost(results)
+    texts = [t.get_text() for ax in fig.axes for t in ax.texts]
+    assert "errors: largest of 2 parts\nsolve_ivp: not run" in texts[0]
+    assert "errors: largest of 3 parts\nsolve_ivp: not run" in texts[1]
+    assert [ax.get_ylabel() for ax in fig.axes if ax.get_label() == "<colorbar>"] == [
+        r"Moreau: steps per period $n = \Delta t / h$"]
+    one = read_h5(write_h5(tmp_path / "one.h5", *studies["accuracy_steady"][1]))
+    with pytest.raises(ValueError, match="not both"):
+        figure_accuracy_cost([one, *results])

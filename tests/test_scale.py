@@ -113,7 +113,11 @@ def test_benchmarks_run_tiny_structure():
     assert report["pipeline"] is None and report["max_rss_mb"] > 0
     table = measure.format_table(report)
     assert table.startswith(f"Machine: {report['machine']['cpu']}")
-    assert table.count("\n| ") == 2 + 1 + 2 + 3 + 1 + 1 + 1 + 1 + 1 + 1  # header, separator, one row per measurement
+    # Against Siconos: per scene a row and one per step, and the figure's caption; or one row saying why not.
+    s = report["siconos_parts"]
+    siconos = 1 if "skipped" in s else 1 + sum(1 + len({r["steps_per_period"] for r in scene["rows"]})
+                                               for scene in s["scenes"].values())
+    assert table.count("\n| ") == 2 + 1 + 2 + 3 + 1 + 1 + 1 + 1 + 1 + siconos + 1  # header, separator, one per row
     json.dumps(report)  # the raw numbers are JSON as written by the workflow
 
 

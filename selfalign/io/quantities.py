@@ -134,10 +134,12 @@ def _per_run(group: str) -> dict[str, Quantity]:
     return {
         f"{group}/cpu_time": Quantity("cpu_time", "CPU time of one simulate call per run (fastest of the repeats)",
                                       measurement=True),
-        f"{group}/err_end_position": Quantity("length", "|x(N) - x_ref(N)| per run"),
-        f"{group}/err_vbar": Quantity("velocity", "|vbar - vbar_ref| per run, vbar = (x(N) - x(N-1)) / dt"),
-        f"{group}/x_end": Quantity("length", "end position x(N) per run"),
-        f"{group}/vbar": Quantity("velocity", "vbar = (x(N) - x(N-1)) / dt per run"),
+        f"{group}/err_end_position": Quantity("length", "|x(N) - x_ref(N)| per run (several parts: the largest "
+                                                         "over the parts)"),
+        f"{group}/err_vbar": Quantity("velocity", "|vbar - vbar_ref| per run, vbar = (x(N) - x(N-1)) / dt (several "
+                                                 "parts: the largest over the parts)"),
+        f"{group}/x_end": Quantity("length", "end position x(N) per run (several parts: per run and part)"),
+        f"{group}/vbar": Quantity("velocity", "vbar = (x(N) - x(N-1)) / dt per run (several parts: per run and part)"),
         f"{group}/steps": Quantity("count", "the solver's steps per run"),
         f"{group}/events": Quantity("count", "the solver's events per run"),
         f"{group}/status": Quantity("text", "the run's status (horizon, rest, accumulation, never_stops, error)"),

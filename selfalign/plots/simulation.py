@@ -1,5 +1,5 @@
 """Plot functions and figure builders for the simulation figures (Figs. 3, 9, 12) and the
-work-precision study (``accuracy_cost``).
+work-precision study (``accuracy_cost``, and ``accuracy_parts`` for scenes with several parts).
 
 As in :mod:`selfalign.plots.profile`, the plot functions draw data they are given onto
 matplotlib Axes (or a Figure for multi-panel plots) and return the figure; the
@@ -245,8 +245,9 @@ def slope_guide(ax, cpu_time, error, label: str):
 def work_precision(fig, studies: list[dict]):
     """Error against CPU time, log-log: one column per scene, one row per error kind.
 
-    Each study holds ``title``, ``target_error``, ``moreau_order`` and per method
-    (``moreau``, ``ivp``) the arrays ``cpu_time``, ``err_end_position``, ``err_vbar`` and
+    Each study holds ``title``, ``target_error``, ``moreau_order``, ``note`` (text under the
+    order, may be empty) and per method (``moreau``, and ``ivp`` where it was run: the same
+    method in every study) the arrays ``cpu_time``, ``err_end_position``, ``err_vbar`` and
     the setting of each run (``steps_per_period``, ``rtol``), drawn as the colour of its
     marker, plus ``exact_cpu_time`` (drawn as a vertical line: it is the reference) and
     the rounding levels of both errors: errors below them are drawn at them
@@ -254,12 +255,13 @@ def work_precision(fig, studies: list[dict]):
     (first order) runs through the Moreau points.
     """
     axes = fig.subplots(len(ERROR_KINDS), len(studies), squeeze=False, sharex="col")
+    methods = {method: spec for method, spec in RUN_SETTING.items() if method in studies[0]}
     scales = {}
     for col, study in enumerate(studies):
         for row, (kind, (label, floor_key)) in enumerate(ERROR_KINDS.items()):
             ax = axes[row, col]
             floor = study[floor_key]
-            for method, (setting, cmap, _) in RUN_SETTING.items():
+            for method, (setting, cmap, _) in methods.items():
                 data = study[method]
                 style = METHOD_STYLE[method]
                 shown = np.maximum(data[kind], floor)
@@ -276,8 +278,9 @@ def work_precision(fig, studies: list[dict]):
                 ax.axhline(study["target_error"], color="tab:red", linestyle="-.", linewidth=0.8,
                            label=f"target error {study['target_error']:g}")
                 ax.set_title(study["title"], fontsize="small")
-                ax.text(0.97, 0.97, f"Moreau order {study['moreau_order']:.2f}", transform=ax.transAxes,
-                        ha="right", va="top", fontsize="small")
+                ax.text(0.97, 0.97, "\n".join(filter(None, (f"Moreau order {study['moreau_order']:.2f}",
+                                                             study["note"]))),
+                        transform=ax.transAxes, ha="right", va="top", fontsize="small")
             ax.set_xscale("log")
             ax.set_yscale("log")
             if col == 0:
@@ -286,17 +289,20 @@ def work_precision(fig, studies: list[dict]):
                 ax.set_xlabel("CPU time [s]")
     handles, names = axes[0, 0].get_legend_handles_labels()
     fig.legend(handles, names, loc="outside lower center", ncols=3, frameon=False, fontsize="small")
-    for row, (method, (_, _, label)) in enumerate(RUN_SETTING.items()):
+    for row, (method, (_, _, label)) in enumerate(methods.items()):
         fig.colorbar(scales[method], ax=axes[row, :], location="right", aspect=25, pad=0.01, label=label)
     return fig
 
 
 def _study_title(scene: Scene) -> str:
-    """What a work-precision study simulates, in physical terms (two lines): the surface, each
-    effect beyond the paper's model (friction law, finite jerk) with its size, the horizon, the profile."""
+    """What a work-precision study simulates, in physical terms (two lines): the parts (several, with
+    their restitution), the surface, each effect beyond the paper's model (friction law, finite jerk)
+    with its size, the horizon, the profile."""
     surface = scene.surface.params()
     where = ("uniform friction" if surface["kind"] == "uniform" else
              rf"stop zone at $x_\mu$ = {surface['x_mu']:g}, $c_\mu$ = {surface['c_mu']:g}")
+    if scene.parts is not None:
+        where = f"{len(scene.parts)} parts, e = {scene.restitution:g}, {where}"
     law = scene.friction.params()
     if law["kind"] != "coulomb":
         where += rf", {law['kind'].replace('_', '/')} $\mu_s/\mu_k$ = {law['mu_s_over_mu_k']:g}"
@@ -310,7 +316,11 @@ def _study_title(scene: Scene) -> str:
 
 
 def figure_accuracy_cost(results: list[dict]):
-    """The work-precision figure from accuracy results (:mod:`selfalign.analysis.accuracy` layout)."""
+    """The work-precision figure from accuracy results (:mod:`selfalign.analysis.accuracy` layout).
+
+    The results are all of one part or all of several parts (figure ``accuracy_parts``): solve_ivp
+    cannot simulate several parts, so their studies have no ivp runs (the panel says so) and their
+    errors are the largest over the parts (the panel says over how many)."""
     from matplotlib.figure import Figure
 
     studies = []
@@ -321,10 +331,14 @@ def figure_accuracy_cost(results: list[dict]):
             "title": _study_title(scene_from_result(result))
                      + ("" if a["reference"] == "exact" else f"\nreference: {a['reference']}"),
             "target_error": a["target_error"], "moreau_order": a["moreau_order"],
+            "note": "" if a["parts"] == 1 else f"errors: largest of {a['parts']} parts\nsolve_ivp: not run",
             "rounding_level_position": a["rounding_level_position"],
             "rounding_level_vbar": a["rounding_level_vbar"],
-            "moreau": g["moreau"]["datasets"], "ivp": g["ivp"]["datasets"],
+            **{method: g[method]["datasets"] for method in RUN_SETTING if method in g},
             "exact_cpu_time": float(g["exact"]["datasets"]["cpu_time"]),
         })
+    if len({"ivp" in study for study in studies}) > 1:
+        raise ValueError("figure_accuracy_cost draws studies of one part or studies of several parts, not both: "
+                         "solve_ivp runs in the first only (give the others to the figure accuracy_parts)")
     fig = Figure(figsize=(4.4 * len(studies) + 0.8, 7.6), layout="constrained")
     return work_precision(fig, studies)

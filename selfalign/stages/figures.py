@@ -62,6 +62,7 @@ FIGURES = {
     "fig17": lambda results: figure_17(*results),  # fig17.h5, fig18.h5 (its setting is marked)
     "fig18": lambda results: figure_18(*results),
     "accuracy_cost": figure_accuracy_cost,
+    "accuracy_parts": figure_accuracy_cost,  # the scenes with several parts
     "static_friction": lambda results: figure_static_friction(*results),
     "stribeck_friction": lambda results: figure_stribeck_friction(*results),
     "finite_jerk": lambda results: finite_jerk_figure(*grids_from_result(*results)),

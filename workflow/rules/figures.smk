@@ -4,6 +4,8 @@
 # restyling never reruns a simulation); the first format carries the caption,
 # workflow/report/<name>.rst, into `snakemake --report`.
 
+import yaml
+
 FIGURE_CONFIG = config["figures"]
 FIGURE_FORMATS = FIGURE_CONFIG["formats"]
 SIMULATION_FIGURES = "Simulation (Sects. 2-5)"
@@ -14,6 +16,15 @@ SOLVER_FIGURES = "Solvers: accuracy against cost"
 DESIGN_FIGURES = "Designing a self-aligning station"
 EFFECT_FIGURES = "Beyond the paper's model: finite jerk and friction laws"
 PORTRAITS = ACCUMULATION["portraits"]["settings"]
+
+
+def places_parts(name):
+    """Whether a scene file places several parts (`parts:`): its accuracy study goes to figure accuracy_parts."""
+    with open(scene_file(name)) as f:
+        return "parts" in yaml.safe_load(f)
+
+
+ACCURACY_PARTS = [n for n in scenes("accuracy") if places_parts(n)]
 
 #: name -> (report category, input result files, options of selfalign.stages.figures.draw)
 FIGURES = {
@@ -37,7 +48,11 @@ FIGURES = {
     # Fig. 17 marks the setting of Fig. 18, read from its result.
     "fig17": (ACCUMULATION_FIGURES, [results("accumulation", "fig17"), results("accumulation", "fig18")], {}),
     "fig18": (ACCUMULATION_FIGURES, [results("accumulation", "fig18")], {}),
-    "accuracy_cost": (SOLVER_FIGURES, [results("accuracy", n) for n in scenes("accuracy")], {}),
+    "accuracy_cost": (SOLVER_FIGURES, [results("accuracy", n) for n in scenes("accuracy") if n not in ACCURACY_PARTS],
+                      {}),
+    # The accuracy scenes with several parts (no solve_ivp), in a figure of their own.
+    **({"accuracy_parts": (SOLVER_FIGURES, [results("accuracy", n) for n in ACCURACY_PARTS], {})}
+       if ACCURACY_PARTS else {}),
     "static_friction": (EFFECT_FIGURES, [results("effects", "static_friction")], {}),
     "stribeck_friction": (EFFECT_FIGURES, [results("effects", "stribeck")], {}),
     "finite_jerk": (EFFECT_FIGURES, [results("finite_jerk", "finite_jerk")], {}),
