@@ -392,9 +392,13 @@ def format_table(report: dict) -> str:
                      f"{r['max_end_difference']:.1e})")
         lines.append(f"| batch, {r['solver']} | {text} |")
     rows = report["several_parts"]
+    # the cost per event against the single-part engine's on the same surface (its quadratic or zone arcs)
+    single = {r["case"].split(" (")[0]: r["events_per_s"] for r in report["single_trajectory"]}
+    alone = {"uniform": single["uniform surface"], "stop zone": single["transition zone"]}
     lines.append(f"| several parts, exact, {rows[0]['parts']} parts x {rows[0]['periods']} periods | " + "; ".join(
-        f"{r['case']}: {r['seconds']:.2f} s, {r['events_per_s']:.3g} events/s ({r['events']} events, "
-        f"{r['impacts']} contact closings, ends {r['status']})" for r in rows) + " |")
+        f"{r['case']}: {r['seconds']:.2f} s, {r['events_per_s']:.3g} events/s, {1e6 / r['events_per_s']:.2f} µs per "
+        f"event ({alone[r['case'].split(', ')[1]] / r['events_per_s']:.0f}x the single-part engine's) "
+        f"({r['events']} events, {r['impacts']} contact closings, ends {r['status']})" for r in rows) + " |")
     lat = report["simulate_latency"]
     lines.append(f"| `sa.simulate`, 5 periods, after warm-up | median {lat['median_us']:.1f} µs, 90th percentile "
                  f"{lat['p90_us']:.1f} µs ({lat['calls']} calls) |")

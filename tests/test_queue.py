@@ -16,6 +16,7 @@ from test_figures import ATOL, RTOL, assert_data_matches
 
 import selfalign as sa
 from selfalign.analysis.queue import (
+    QUEUE_EVENTS,
     aligned_times,
     pooled_rest,
     queue_parts,
@@ -25,7 +26,7 @@ from selfalign.analysis.queue import (
     spread_factors,
 )
 from selfalign.io.hdf5 import read_dataset_attrs, read_h5, write_h5
-from selfalign.io.recording import Boxes, Recording, read_boxes, read_recording, write_recording
+from selfalign.io.recording import Boxes, Recording, read_boxes, read_logs, read_recording, write_recording
 from selfalign.model.parts import Part
 from selfalign.plots.parts import motion_figure, queue_figure
 from selfalign.solvers.parts_exact import simulate_parts
@@ -63,6 +64,10 @@ def test_period_by_period_run_is_the_one_run():
     whole = simulate_parts(PROFILE, parts, surface=ZONE, periods=20)
     assert run.status == "horizon" and run.x.shape == (21, 3)
     np.testing.assert_allclose(run.x_end, whole.x_end, rtol=0, atol=EXACT)
+    # the events per part and period add up to the one run's per part (a break at a period end is no event)
+    assert run.part_events.shape == (20, 3, len(QUEUE_EVENTS))
+    for k, kind in enumerate(QUEUE_EVENTS):
+        assert run.part_events[:, :, k].sum(axis=0).tolist() == getattr(whole, "part_" + kind).tolist(), kind
 
 
 def test_parts_fed_far_apart_first_stops_alone_then_the_pair_pools():
@@ -185,6 +190,17 @@ def test_recording_holds_one_box_per_part_at_every_period_end(stage_file, tmp_pa
     assert boxes["queue/zone"][1][0, 0, 0] == pytest.approx(0.525, rel=1e-6)
     series = read_recording(path)
     np.testing.assert_array_equal(series["front/part_1"][1], x[:, 1])
+    # the events: one log line at the end of each period with events, naming each part's counts
+    events = groups["queue_motion"]["datasets"]["events"]
+    log = read_logs(path)["queue/events"]
+    busy = [k for k in range(events.shape[0]) if np.any(events[k])]
+    np.testing.assert_allclose(log.times, t[1:][busy], rtol=0, atol=1e-9)
+    kinds = list(groups["queue_motion"]["attrs"]["event_kinds"])
+    assert kinds == list(QUEUE_EVENTS) and len(log.texts) == len(busy) > 0
+    row = events[busy[0]]
+    assert log.texts[0] == f"period {busy[0] + 1}: " + "; ".join(
+        f"part {i}: " + ", ".join(f"{c} {kind}" for c, kind in zip(counts, kinds) if c)
+        for i, counts in enumerate(row) if counts.any())
 
 
 @pytest.mark.parametrize(("call", "error", "message"), [

@@ -49,6 +49,10 @@ AT_SINGLE_WIDTHS = 1e-9
 POOLED_STEPS = 200
 
 
+#: The events per part a queue run keeps for every period (:attr:`QueueRun.part_events`), in this order.
+QUEUE_EVENTS = ("sticks", "slips", "impacts", "openings", "crossings")
+
+
 def _check_setting(profile, zone):
     if not isinstance(profile, PiecewiseConstantProfile):
         raise TypeError(f"profile must be a PiecewiseConstantProfile (e.g. a ThreePhaseProfile), got "
@@ -200,7 +204,7 @@ class QueueRun:
 
     Parameters
     ----------
-    status, t_end, x_end, v_end, periods, events, t, x : see Attributes
+    status, t_end, x_end, v_end, periods, events, t, x, part_events : see Attributes
         As in Attributes.
 
     Attributes
@@ -222,6 +226,9 @@ class QueueRun:
         The period ends 0, dt, 2 dt, ... simulated, shape (periods + 1,); at rest the last one is ``t_end``.
     x : numpy.ndarray
         The fronts at those times, shape (periods + 1, N).
+    part_events : numpy.ndarray
+        The events of each part in each period, shape (periods, N, len(:data:`QUEUE_EVENTS`)): the exact
+        solver's counts per part (``part_sticks``, ... of :class:`~selfalign.solvers.parts_exact.PartsResult`).
 
     Examples
     --------
@@ -242,6 +249,7 @@ class QueueRun:
     events: int
     t: np.ndarray
     x: np.ndarray
+    part_events: np.ndarray
 
 
 def run_queue(profile: PiecewiseConstantProfile, zone: StopZone, parts, *, restitution: float = 0.0,
@@ -297,26 +305,28 @@ def run_queue(profile: PiecewiseConstantProfile, zone: StopZone, parts, *, resti
     settle_periods = check_integer("settle_periods", settle_periods)
     settle = _positive("settle", settle)
     current = tuple(parts)
-    xs, events, still = [np.array([p.x0 for p in current])], 0, 0
+    xs, events, still, counts = [np.array([p.x0 for p in current])], 0, 0, []
     for period in range(1, max_periods + 1):
         result = simulate_parts(profile, current, surface=zone, restitution=e, periods=1)
         events += result.events
+        counts.append(np.stack([getattr(result, "part_" + kind) for kind in QUEUE_EVENTS], axis=1))
         status = result.status.value
         if status != "horizon":
             xs.append(result.x_end.copy())
             t_end = (period - 1) * profile.dt + result.t_end
             return QueueRun("error" if status == "error" else "rest", t_end, result.x_end.copy(),
                             result.v_end.copy(), period, events, np.append(np.arange(period) * profile.dt, t_end),
-                            np.array(xs))
+                            np.array(xs), np.array(counts))
         xs.append(result.x_end.copy())
         still = still + 1 if np.max(np.abs(xs[-1] - xs[-2])) <= settle * zone.w else 0
         if still >= settle_periods:
             return QueueRun("settled", (period - settle_periods) * profile.dt, result.x_end.copy(),
-                            result.v_end.copy(), period, events, np.arange(period + 1) * profile.dt, np.array(xs))
+                            result.v_end.copy(), period, events, np.arange(period + 1) * profile.dt, np.array(xs),
+                            np.array(counts))
         current = tuple(Part(float(x), float(v), width=p.width, mass=p.mass, friction_factor=p.friction_factor)
                         for x, v, p in zip(result.x_end, result.v_end, current))
     return QueueRun("horizon", max_periods * profile.dt, xs[-1], np.array([p.v0 for p in current]), max_periods,
-                    events, np.arange(max_periods + 1) * profile.dt, np.array(xs))
+                    events, np.arange(max_periods + 1) * profile.dt, np.array(xs), np.array(counts))
 
 
 def single_rest(profile: PiecewiseConstantProfile, zone: StopZone, *, distance: float,

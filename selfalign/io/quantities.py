@@ -467,6 +467,8 @@ QUANTITIES.update({
     "queue_motion/t": Quantity("time", "period ends of the recorded queue"),
     "queue_motion/x": Quantity("length", "front position of each part at the period ends, the rear-most first"),
     "queue_motion/width": Quantity("length", "width of each part"),
+    "queue_motion/events": Quantity("count", "events of each part in each period, shape (periods, parts, kinds), "
+                                             "the kinds in the attribute event_kinds"),
     "design_queue/n": Quantity("count", "the axis: number of parts N"),
     "design_queue/x_end": Quantity("si_length", "end front position of each part past the strip's edge, the "
                                                 "front-most first (NaN beyond N)"),

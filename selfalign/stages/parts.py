@@ -15,8 +15,16 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..analysis.queue import STATUSES, aligned_times, queue_parts, queue_study, run_queue, single_rest
-from ..io.recording import Boxes, Recording
+from ..analysis.queue import (
+    QUEUE_EVENTS,
+    STATUSES,
+    aligned_times,
+    queue_parts,
+    queue_study,
+    run_queue,
+    single_rest,
+)
+from ..io.recording import Boxes, LogEntries, Recording
 from ..model.friction import StopZone
 from ..model.profiles import ThreePhaseProfile
 from .design import stop_scene
@@ -112,8 +120,9 @@ def queue_results(settings: dict, zone: dict, design: dict) -> tuple[dict, dict,
     setting = {**settings["setting"], "x_mu": stop.x_mu, "w": stop.w, "c_mu": stop.c_mu}
     groups = {
         "queue": {"datasets": {**study, "x_mu": stop.x_mu}, "attrs": setting},
-        "queue_motion": {"datasets": {"t": run.t, "x": run.x, "width": np.full(motion["n"], stop.w)},
-                         "attrs": {**setting, **motion, "status": run.status}},
+        "queue_motion": {"datasets": {"t": run.t, "x": run.x, "width": np.full(motion["n"], stop.w),
+                                      "events": run.part_events},
+                         "attrs": {**setting, **motion, "status": run.status, "event_kinds": list(QUEUE_EVENTS)}},
         "design_queue": _design_queue(design, settings["design"]),
     }
     return {}, {"setting": setting}, groups
@@ -132,7 +141,9 @@ def queue_recording(result: dict) -> Recording:
     Returns
     -------
     Recording
-        With ``boxes`` ``queue/parts`` and ``queue/zone`` and series ``front/part_<i>``.
+        With ``boxes`` ``queue/parts`` and ``queue/zone``, series ``front/part_<i>`` and, where the result
+        holds the events per part and period, the log ``queue/events``: at each period end, the events of each
+        part in that period (sticks, slips, impacts, openings, zone crossings).
 
     Raises
     ------
@@ -163,5 +174,22 @@ def queue_recording(result: dict) -> Recording:
             f"{a['c_mu']:g} (docs/explanation/queue.md); gap {a['spacing']:g}, e = {a['restitution']:g}; "
             f"Fig. 18 profile dt = {a['dt']:g}, dy = {a['dy']:g}, y2'' = {a['y2']:g}, y3'' = {a['y3']:g}; "
             f"positions at the period ends; the run ends: {a['status']}.")
+    logs = {}
+    if "events" in motion["datasets"]:
+        lines = _event_lines(np.asarray(motion["datasets"]["events"]), list(a["event_kinds"]))
+        logs["queue/events"] = LogEntries(times=t[1:][[k for k, _ in lines]], texts=[line for _, line in lines],
+                                          levels=["INFO"] * len(lines))
     return Recording(t, series, period=float(a["dt"]), boxes=boxes, documents={"queue": (text, "text/plain")},
-                     view_titles={"front": "front positions x_i"})
+                     view_titles={"front": "front positions x_i"}, logs=logs)
+
+
+def _event_lines(events: np.ndarray, kinds: list[str]) -> list[tuple[int, str]]:
+    """(period index, text) of each period with events: per part, its counts of each kind (``events`` of shape
+    (periods, N, kinds))."""
+    lines = []
+    for k, period in enumerate(events):
+        parts = ["part " + str(i) + ": " + ", ".join(f"{int(c)} {kind}" for c, kind in zip(row, kinds) if c)
+                 for i, row in enumerate(period) if np.any(row)]
+        if parts:
+            lines.append((k, f"period {k + 1}: " + "; ".join(parts)))
+    return lines

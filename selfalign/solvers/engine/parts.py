@@ -316,6 +316,10 @@ def next_event(f, g, q, c, zone, n, ay, rem):
             kind, om = g[PKIND, first], f[POMEGA, first]
             best = take(g, c, best, A.zero_velocity_time(kind, om, sigma, vel, acc), 0, first)
             if zone:
+                # The cluster moves as one, so its parts cross their boundaries in the order of the distances to
+                # them: the nearest crossing, and every part within the contact tolerance of that distance (touching
+                # parts of equal widths reach x_mu and x_mu + w together), are one event at one time.
+                nearest, near = INF, -1
                 for j in range(first, last + 1):
                     r = region(f, q, zone, j, sigma)
                     if sigma > 0 and r != HIGH:
@@ -323,8 +327,15 @@ def next_event(f, g, q, c, zone, n, ay, rem):
                     elif sigma < 0 and r != LOW:
                         f[PLAND, j] = f[PW, j] if r == HIGH else 0.0
                     else:
+                        f[PLAND, j] = INF
                         continue
-                    best = take(g, c, best, A.crossing_time(kind, om, vel, acc, f[PX, j] - f[PLAND, j]), 2, j)
+                    if abs(f[PX, j] - f[PLAND, j]) < nearest:
+                        nearest, near = abs(f[PX, j] - f[PLAND, j]), j
+                if near >= 0:
+                    t = A.crossing_time(kind, om, vel, acc, f[PX, near] - f[PLAND, near])
+                    for j in range(first, last + 1):
+                        if f[PLAND, j] != INF and abs(f[PX, j] - f[PLAND, j]) <= nearest + contact_tolerance(f, q, j):
+                            best = take(g, c, best, t, 2, j)
                 if kind != ARC_QUADRATIC:
                     force, rate, kap = 0.0, 0.0, f[PKAPPA, first]
                     for j in range(first, last):
