@@ -26,15 +26,18 @@ def pytest_addoption(parser):
 
 
 #: Markers whose tests run only when the ``-m`` expression names them.
-OPT_IN_MARKERS = ("slurm", "exhaustive")
+OPT_IN_MARKERS = ("slurm", "exhaustive", "blas")
 
 
 def pytest_collection_modifyitems(config, items):
     """Tests marked ``slurm`` start daemons as root and take minutes; tests marked ``exhaustive``
     repeat a claim with a far larger budget (a wider search, the whole pipeline run twice; minutes
-    each).  Both run only when the ``-m`` expression names their marker (``.ci/run`` runs
-    ``pytest -q -m slurm`` and ``-m exhaustive``), so the README's test command and e.g.
-    ``-m 'not slow'`` leave them out.  Files holding a slow test run first."""
+    each); tests marked ``blas`` check results that pass through BLAS/LAPACK, which ``.ci/run`` runs
+    under four BLAS configurations (the machine's own kernel, as the README's command would, and a
+    kernel every x86-64 CPU runs, each with 1 and 2 threads).  All three run only when the ``-m``
+    expression names their marker (``.ci/run`` runs ``pytest -q -m slurm``, ``-m exhaustive`` and
+    ``-m blas``), so the README's test command and e.g. ``-m 'not slow'`` leave them out.  Files
+    holding a slow test run first."""
     for marker in OPT_IN_MARKERS:
         if marker in config.getoption("markexpr"):
             continue
@@ -56,31 +59,6 @@ def update_figure_refs(request) -> bool:
 @pytest.fixture(scope="session")
 def repo() -> Path:
     return REPO
-
-
-@pytest.fixture(scope="session", autouse=True)
-def compiled_solvers(tmp_path_factory):
-    """Under pytest-xdist (the README's command), the processes compile the solvers' entry points
-    first, sharing the work (:mod:`selfalign.solvers.warmup`): each takes the warm-ups no other has
-    started, under a lock file per warm-up in the session's common temporary directory.  On an empty
-    numba cache this replaces the compilations every process and every job of the test pipelines would
-    otherwise repeat; on a filled one each warm-up loads in well under a second.  A single process
-    (a file run alone) compiles what its tests call, when they call it."""
-    if "PYTEST_XDIST_WORKER" not in os.environ:
-        return
-    from selfalign.solvers.warmup import WARMUPS, warm_up
-
-    shared = tmp_path_factory.getbasetemp().parent
-    for name in WARMUPS:
-        with open(shared / f"warmup_{name}.lock", "w") as lock:
-            try:
-                fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
-            except BlockingIOError:
-                continue                    # another process has it
-            done = shared / f"warmup_{name}.done"
-            if not done.exists():
-                warm_up([name])
-                done.touch()
 
 
 def random_three_phase(count, seed, *, accelerations, strokes, complete):

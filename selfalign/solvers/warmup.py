@@ -9,8 +9,7 @@ first (``selfalign compile``, :func:`warm_up`) lets every later process load the
 Each warm-up in :data:`WARMUPS` is a run of a few periods through the public solvers that reaches one
 group of entry points: the exact solver on piecewise-constant and on smooth profiles, Moreau, each with
 and without recording, batches on a uniform surface, solve_ivp's compiled decisions, and the two solvers
-of several parts.  They are independent, so that processes can share the work (each takes the warm-ups
-no other has started: tests/conftest.py).
+of several parts.  They are independent of one another (:func:`warm_up` takes any of them).
 """
 
 from __future__ import annotations
