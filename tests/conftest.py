@@ -26,7 +26,10 @@ def pytest_addoption(parser):
 
 
 #: Markers whose tests run only when the ``-m`` expression names them.
-OPT_IN_MARKERS = ("slurm", "exhaustive", "blas")
+OPT_IN_MARKERS = ("slurm", "exhaustive")
+#: Markers whose tests run only when the ``-m`` expression names some marker of OPT_IN_MARKERS or this one
+#: (a claim checked with a larger budget that passes through BLAS runs with ``-m exhaustive``).
+DEFAULT_OUT_MARKERS = ("blas",)
 
 
 def pytest_collection_modifyitems(config, items):
@@ -34,13 +37,15 @@ def pytest_collection_modifyitems(config, items):
     repeat a claim with a far larger budget (a wider search, the whole pipeline run twice; minutes
     each); tests marked ``blas`` check results that pass through BLAS/LAPACK, which ``.ci/run`` runs
     under four BLAS configurations (the machine's own kernel, as the README's command would, and a
-    kernel every x86-64 CPU runs, each with 1 and 2 threads).  All three run only when the ``-m``
-    expression names their marker (``.ci/run`` runs ``pytest -q -m slurm``, ``-m exhaustive`` and
-    ``-m blas``), so the README's test command and e.g. ``-m 'not slow'`` leave them out.  Files
-    holding a slow test run first."""
-    for marker in OPT_IN_MARKERS:
-        if marker in config.getoption("markexpr"):
-            continue
+    kernel every x86-64 CPU runs, each with 1 and 2 threads).  The first two run only when the ``-m``
+    expression names their marker, the ``blas`` tests when it names any of the three (``.ci/run`` runs
+    ``pytest -q -m slurm``, ``-m exhaustive`` and ``-m blas``; an exhaustive test of a result that
+    passes through BLAS runs with ``-m exhaustive``), so the README's test command and e.g.
+    ``-m 'not slow'`` leave them all out.  Files holding a slow test run first."""
+    expression = config.getoption("markexpr")
+    named = [marker for marker in OPT_IN_MARKERS + DEFAULT_OUT_MARKERS if marker in expression]
+    out = [marker for marker in OPT_IN_MARKERS if marker not in named] + ([] if named else list(DEFAULT_OUT_MARKERS))
+    for marker in out:
         opted = [item for item in items if item.get_closest_marker(marker)]
         if opted:
             config.hook.pytest_deselected(items=opted)
