@@ -121,8 +121,8 @@ def single_trajectory(periods: int = 200_000, repeat: int = 3) -> list[dict]:
         result, (xi, _, ref_events) = engine(), minimal()
         events = int(result.event_count[0])
         seconds, ref_seconds = _best(engine, repeat), _best(minimal, repeat)
-        rows.append({"case": name, "periods": periods, "events": events, "seconds": seconds,
-                     "events_per_s": events / seconds, "reference_events": int(ref_events),
+        rows.append({"case": name, "zone": isinstance(surface, StopZone), "periods": periods, "events": events,
+                     "seconds": seconds, "events_per_s": events / seconds, "reference_events": int(ref_events),
                      "reference_events_per_s": ref_events / ref_seconds,
                      "max_end_difference": abs(float(result.x_end[0]) - (xi - shift))})
     return rows
@@ -214,7 +214,8 @@ def several_parts(count: int = 100, periods: int = 1000, repeat: int = 1) -> lis
 
         result = solve()
         seconds = _best(solve, repeat)
-        rows.append({"case": name, "parts": count, "periods": periods, "status": result.status.value,
+        rows.append({"case": name, "zone": isinstance(surface, StopZone), "parts": count, "periods": periods,
+                     "status": result.status.value,
                      "events": result.events, "impacts": result.impacts, "seconds": seconds,
                      "events_per_s": result.events / seconds})
     return rows
@@ -393,11 +394,10 @@ def format_table(report: dict) -> str:
         lines.append(f"| batch, {r['solver']} | {text} |")
     rows = report["several_parts"]
     # the cost per event against the single-part engine's on the same surface (its quadratic or zone arcs)
-    single = {r["case"].split(" (")[0]: r["events_per_s"] for r in report["single_trajectory"]}
-    alone = {"uniform": single["uniform surface"], "stop zone": single["transition zone"]}
+    alone = {r["zone"]: r["events_per_s"] for r in report["single_trajectory"]}
     lines.append(f"| several parts, exact, {rows[0]['parts']} parts x {rows[0]['periods']} periods | " + "; ".join(
         f"{r['case']}: {r['seconds']:.2f} s, {r['events_per_s']:.3g} events/s, {1e6 / r['events_per_s']:.2f} µs per "
-        f"event ({alone[r['case'].split(', ')[1]] / r['events_per_s']:.0f}x the single-part engine's) "
+        f"event ({alone[r['zone']] / r['events_per_s']:.0f}x the single-part engine's) "
         f"({r['events']} events, {r['impacts']} contact closings, ends {r['status']})" for r in rows) + " |")
     lat = report["simulate_latency"]
     lines.append(f"| `sa.simulate`, 5 periods, after warm-up | median {lat['median_us']:.1f} µs, 90th percentile "
