@@ -4,8 +4,6 @@
 # restyling never reruns a simulation); the first format carries the caption,
 # workflow/report/<name>.rst, into `snakemake --report`.
 
-import yaml
-
 FIGURE_CONFIG = config["figures"]
 FIGURE_FORMATS = FIGURE_CONFIG["formats"]
 SIMULATION_FIGURES = "Simulation (Sects. 2-5)"
@@ -17,14 +15,8 @@ DESIGN_FIGURES = "Designing a self-aligning station"
 EFFECT_FIGURES = "Beyond the paper's model: finite jerk and friction laws"
 PORTRAITS = ACCUMULATION["portraits"]["settings"]
 
-
-def places_parts(name):
-    """Whether a scene file places several parts (`parts:`): its accuracy study goes to figure accuracy_parts."""
-    with open(scene_file(name)) as f:
-        return "parts" in yaml.safe_load(f)
-
-
-ACCURACY_PARTS = [n for n in scenes("accuracy") if places_parts(n)]
+#: The accuracy scenes with several parts: their studies go to figure accuracy_parts.
+ACCURACY_PARTS = [n for n in scenes("accuracy") if SCENES[n].parts is not None]
 
 #: name -> (report category, input result files, options of selfalign.stages.figures.draw)
 FIGURES = {
