@@ -64,7 +64,7 @@ import numpy as np
 from ..model.scene import Record, Scene
 from ..progress import Progress, resolve_mode
 from ..solvers.driver import simulate
-from ..solvers.methods import friction_refused, parts_refused
+from ..solvers.methods import scene_refused
 
 #: Double-precision unit roundoff scale used for the rounding levels.
 _EPS = np.finfo(float).eps
@@ -148,20 +148,13 @@ def _check_scene(scene: Scene) -> None:
 def reference_solver(scene: Scene) -> tuple[str, dict]:
     """(method, options) of the study's reference: the exact solver, or the scene's solver block
     where the exact solver cannot simulate the scene; ValueError if that block names exact."""
-    refused = _refusal("exact", scene)
+    refused = scene_refused("exact", scene, {})
     if refused is None:
         return "exact", {}
     if scene.method == "exact":
         raise ValueError(f"scene {scene.name!r}: the accuracy study has no reference, {refused}; name the "
                          f"reference in the scene's solver block (method moreau or ivp, with tight tolerances)")
     return scene.method, dict(scene.solver_options)
-
-
-def _refusal(method: str, scene: Scene) -> str | None:
-    """Why ``method`` cannot simulate ``scene`` (its friction law, or its several parts), or None."""
-    if scene.parts is not None:
-        return parts_refused(method, scene, {})
-    return friction_refused(method, scene.friction, {})
 
 
 def reference_text(method: str, options: dict) -> str:
@@ -226,7 +219,7 @@ def _warm_up(scene: Scene) -> None:
     """One untimed short call per method that can simulate the scene, so that imports are not timed."""
     short = scene.replace(periods=1, record=Record())
     for method in ("exact", "moreau", "ivp"):
-        if _refusal(method, scene) is None:
+        if scene_refused(method, scene, {}) is None:
             simulate(short, method)
 
 
@@ -276,7 +269,7 @@ def study(scene: Scene, settings: StudySettings = StudySettings(), *, progress: 
     resolve_mode(progress)
     dt = float(scene.profile.dt)
     steps_per_period = settings.steps_per_period()
-    ivp_refused = _refusal("ivp", scene)
+    ivp_refused = scene_refused("ivp", scene, {})
     rtols = settings.rtols() if ivp_refused is None else np.empty(0)
     atols = settings.ivp_atol_factor * rtols
     with Progress(2 + steps_per_period.size + rtols.size, f"accuracy study of {scene.name}", unit="runs",

@@ -234,6 +234,16 @@ def parts_refused(method: str, scene, given: dict) -> str | None:
     return None
 
 
+def scene_refused(method: str, scene, given: dict) -> str | None:
+    """Why ``method`` with the options ``given`` cannot simulate ``scene``, or None: for several parts
+    :func:`parts_refused`, else the method's own refusal of the scene (its profile and surface) or of the
+    friction law (:func:`friction_refused`; an option it reads that is not given has its default, which it
+    accepts)."""
+    if scene.parts is not None:
+        return parts_refused(method, scene, given)
+    return METHODS[method].refuses(scene) or friction_refused(method, scene.friction, given)
+
+
 def check_scene(scene, method: str | None = None, options: dict | None = None) -> dict:
     """Check that ``method`` (default: the scene's) can simulate ``scene`` with ``options``
     (default: the scene's solver options); return the resolved options.  ValueError with
@@ -241,16 +251,13 @@ def check_scene(scene, method: str | None = None, options: dict | None = None) -
     method = scene.method if method is None else method
     given = scene.solver_options if options is None else options
     options = resolve(method, given)
+    reason = scene_refused(method, scene, given)
+    if reason:
+        raise ValueError(reason)
     if scene.parts is not None:
-        reason = parts_refused(method, scene, given)
-        if reason:
-            raise ValueError(reason)
         if method == "moreau":
             check_moreau_work(moreau_step(scene.profile.dt, options)[0], scene.horizon_periods, "horizon.periods")
         return options
-    reason = METHODS[method].refuses(scene) or friction_refused(method, scene.friction, options)
-    if reason:
-        raise ValueError(reason)
     if method == "moreau":
         n = R.data_size(profile_row(scene.profile, scene.phase, options))
         check_moreau_work(n, scene.horizon_periods, "horizon.periods" if scene.until == "periods"
