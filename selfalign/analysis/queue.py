@@ -27,13 +27,11 @@ The references a queue is compared with:
 
 from __future__ import annotations
 
-import math
-import numbers
 from dataclasses import dataclass
 
 import numpy as np
 
-from ..model.errors import check_integer
+from ..model.errors import check_finite, check_integer, check_positive, check_real
 from ..model.friction import StopZone, coefficient
 from ..model.parts import Part, check_restitution
 from ..model.profiles import PiecewiseConstantProfile
@@ -64,14 +62,6 @@ def _check_setting(profile, zone):
         raise ValueError(f"a queue needs 1 < max|y''| <= c_mu (a part walks on the uniform surface and can rest "
                          f"in the zone, eq. 41), got max|y''| = {peak!r} and c_mu = {zone.c_mu!r}")
     return peak
-
-
-def _positive(name, value) -> float:
-    if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise TypeError(f"{name} must be a real number, got {type(value).__name__}")
-    if not (math.isfinite(value) and value > 0):
-        raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
-    return float(value)
 
 
 def _factors(name, values, n) -> np.ndarray:
@@ -123,10 +113,9 @@ def queue_parts(n: int, zone: StopZone, *, distance: float, spacing: float, fric
     if not isinstance(zone, StopZone):
         raise TypeError(f"zone must be a StopZone, got {type(zone).__name__}")
     n = check_integer("n", n)
-    distance = _positive("distance", distance)
-    if isinstance(spacing, bool) or not isinstance(spacing, numbers.Real) or not (math.isfinite(spacing)
-                                                                                  and spacing >= 0):
-        raise ValueError(f"spacing must be a finite number >= 0 (the gap between neighbours), got {spacing!r}")
+    distance = check_positive("distance", distance)
+    if check_finite("spacing", spacing) < 0.0:
+        raise ValueError(f"spacing must be >= 0 (the gap between neighbours), got {spacing!r}")
     k, m = _factors("friction_factors", friction_factors, n), _factors("masses", masses, n)
     front = zone.x_mu - distance
     return tuple(Part(front - (n - 1 - i) * (zone.w + spacing), width=zone.w, mass=float(m[i]),
@@ -303,7 +292,7 @@ def run_queue(profile: PiecewiseConstantProfile, zone: StopZone, parts, *, resti
     e = check_restitution(restitution)
     max_periods = check_integer("max_periods", max_periods)
     settle_periods = check_integer("settle_periods", settle_periods)
-    settle = _positive("settle", settle)
+    settle = check_positive("settle", settle)
     current = tuple(parts)
     xs, events, still, counts = [np.array([p.x0 for p in current])], 0, 0, []
     for period in range(1, max_periods + 1):
@@ -392,6 +381,8 @@ def spread_factors(n: int, spread: float) -> np.ndarray:
 
     Raises
     ------
+    TypeError
+        If ``spread`` is not a real number or ``n`` not an integer.
     ValueError
         If ``spread`` is not in [0, 1) or ``n`` < 1.
 
@@ -402,7 +393,7 @@ def spread_factors(n: int, spread: float) -> np.ndarray:
     [0.8008, 1.1351, 1.0]
     """
     n = check_integer("n", n)
-    if isinstance(spread, bool) or not isinstance(spread, numbers.Real) or not 0.0 <= spread < 1.0:
+    if not 0.0 <= check_real("spread", spread) < 1.0:
         raise ValueError(f"spread must be a number in [0, 1) (the half range of the friction factors), got {spread!r}")
     return (1.0 + spread * np.sin(2.4 * np.arange(n)))[::-1]
 
@@ -530,7 +521,7 @@ def aligned_times(run: QueueRun, tolerance: float) -> np.ndarray:
     """
     if not isinstance(run, QueueRun):
         raise TypeError(f"run must be a QueueRun, got {type(run).__name__}")
-    tolerance = _positive("tolerance", tolerance)
+    tolerance = check_positive("tolerance", tolerance)
     outside = np.abs(run.x - run.x_end) > tolerance                # (samples, N)
     last_out = np.where(outside.any(axis=0), outside.shape[0] - 1 - np.argmax(outside[::-1], axis=0), -1)
     return run.t[np.minimum(last_out + 1, run.t.size - 1)]
