@@ -145,7 +145,7 @@ class Recording:
         entities = [*series, *markers, *logs, *self.documents, *boxes]
         repeated = sorted({n for n in entities if entities.count(n) > 1})
         if repeated:
-            raise ValueError(f"entity name(s) {repeated} used twice (series, markers, logs and documents)")
+            raise ValueError(f"entity name(s) {repeated} used twice (series, markers, logs, documents and boxes)")
         unknown = sorted(set(self.view_titles) - set(default_groups([*series, *markers])))
         if unknown:
             raise ValueError(f"view_titles name plots that are not recorded: {unknown}")
