@@ -383,11 +383,6 @@ class _Chain:
         return self.f[C.PA]
 
     @property
-    def joined(self) -> np.ndarray:
-        """Whether parts i and i + 1 move together, shape (N - 1,)."""
-        return self.g[C.PJOINED, :-1] != 0
-
-    @property
     def min_gap(self) -> float:
         """The smallest gap between neighbours after any event, relative to the positions' scale (inf for
         one part)."""
