@@ -37,9 +37,9 @@ from ..model.errors import SelfalignError
 #: module of the package it imports, directly or not (tests/test_jit.py checks the closure).
 SOURCES = tuple(f"solvers/engine/{name}.py" for name in (
     "entries", "codes", "compiled", "recording", "field", "piecewise", "smooth", "jerk_zone", "timestepping", "drive",
-    "python_stepper", "dense", "parts")) + ("solvers/records.py", "solvers/outcomes.py", "model/arcs.py",
-                                            "model/friction.py", "model/parts.py", "model/registry.py",
-                                            "model/errors.py")
+    "python_stepper", "dense", "parts", "planar_smooth")) + (
+    "solvers/records.py", "solvers/outcomes.py", "model/arcs.py", "model/friction.py", "model/parts.py",
+    "model/planar.py", "model/registry.py", "model/errors.py")
 #: The logger that announces a compilation (and how long it took).
 LOGGER = logging.getLogger(__name__)
 #: Wall time of compiling the entry points of one solver run on an empty cache, as told to the
