@@ -19,7 +19,7 @@ import math
 
 import numpy as np
 
-from ..model.planar import planar_coefficient, strip_rows
+from ..model.planar import strip_rows
 from ..model.profiles import FourierProfile, PiecewiseConstantProfile
 from . import exact
 from . import records as R
@@ -116,9 +116,8 @@ def run(scene, options: dict) -> PlanarResult:
 
     >>> import math
     >>> import selfalign as sa
-    >>> from selfalign.model.planar import PlanarProfile
     >>> from selfalign.solvers import planar_smooth
-    >>> profile = PlanarProfile(sa.FiniteJerkProfile(dt=1.05, dy=0.084, y2=2.2, y3=0.9, ramp=0.02), angle=math.pi / 4)
+    >>> profile = sa.PlanarProfile(sa.FiniteJerkProfile(dt=1.05, dy=0.084, y2=2.2, y3=0.9, ramp=0.02), angle=math.pi / 4)
     >>> result = planar_smooth.run(sa.Scene(profile, periods=2), {"max_events": 1000})
     >>> result.reason.name, result.sticks, result.slips
     ('PERIODS', 2, 2)
@@ -127,7 +126,7 @@ def run(scene, options: dict) -> PlanarResult:
     """
     profile = scene.profile
     dt = float(profile.dt)
-    shift = float(profile.phase) * dt
+    shift = float(profile.offset) * dt
     rows = R.pack_profiles([component_row(profile.x, dt), component_row(profile.y, dt)])
     pieces = merged_pieces(rows, dt, shift)
     strips = np.ascontiguousarray(strip_rows(scene.strips), dtype=float).reshape(-1, 5)
@@ -170,23 +169,13 @@ def _result(scene, options, reason, f, c, samples, log) -> PlanarResult:
     x_end = np.array([f[C.GX], f[C.GY]])
     v_end = np.array([f[C.GVX], f[C.GVY]])
     if reason is Reason.ACCUMULATION:
-        remaining = float(math.hypot(f[C.GLIMX] - x_end[0], f[C.GLIMY] - x_end[1]))
         x_end = np.array([f[C.GLIMX], f[C.GLIMY]])
-        text = message(reason, limit=tuple(x_end.tolist()), remaining=remaining,
-                       contraction=float(f[C.GCONTRACTION]))
-    elif reason is Reason.REST:
-        mu = planar_coefficient(float(x_end[0]), float(x_end[1]), strip_rows(scene.strips))
-        text = message(reason, x=tuple(x_end.tolist()), mu=scene.friction.ratio * mu,
-                       rest_acc=float(scene.profile.max_abs_acceleration), holding="r mu_bar")
-    elif reason is Reason.PERIODS:
-        text = message(reason, periods=scene.horizon_periods, fast_forward=0)
-    elif reason is Reason.MAX_PERIODS:
-        text = message(reason, max_periods=scene.horizon_periods, zone=bool(scene.strips))
-    elif reason is Reason.MAX_EVENTS:
+    text = ""
+    if reason is Reason.MAX_EVENTS:
         text = message(reason, max_events=options["max_events"], period=n, tau=tau)
     elif reason is Reason.STALL:
         text = message(reason, stall=STALL_EVENTS, stall_ulps=STALL_ULPS, x=tuple(x_end.tolist()), period=n, tau=tau)
-    else:
+    elif reason is Reason.NONFINITE:
         text = message(reason, period=n, x=tuple(x_end.tolist()), v=tuple(v_end.tolist()))
     out_samples = out_log = None
     if scene.record.dense:
