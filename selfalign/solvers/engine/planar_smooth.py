@@ -132,7 +132,7 @@ STOP_FLOOR = 2.0**-40
 #: once that lag would exceed SLAVED_LAG (a velocity error of at most SLAVED_LAG |v| there), or where |Y''| falls
 #: below mu_bar / 2 or turns away from -v (a switch: the cosine of their angle below SLAVED_ALIGNED).  While
 #: slaved, a step starts with v put back on that direction (it drifts off by the step's integration error only).
-SLAVED_LAG, SLAVED_ALIGNED = 1.0e-6, 0.5
+SLAVED_LAG, SLAVED_ALIGNED = 1.0e-9, 0.5
 #: Rejected tries of one step after which the run ends with STALL (a step that shrinks without end).
 MAX_REJECTS = 200
 #: Event functions (:func:`_event_value`): a strip boundary, the equality of two strips' coefficients, |Y''|^2
