@@ -20,7 +20,7 @@ import math
 import numpy as np
 
 from ..model.planar import strip_rows
-from ..model.profiles import FourierProfile, PiecewiseConstantProfile
+from ..model.profiles import PiecewiseConstantProfile
 from . import exact
 from . import records as R
 from .engine import codes as C
@@ -117,7 +117,8 @@ def run(scene, options: dict) -> PlanarResult:
     >>> import math
     >>> import selfalign as sa
     >>> from selfalign.solvers import planar_smooth
-    >>> profile = sa.PlanarProfile(sa.FiniteJerkProfile(dt=1.05, dy=0.084, y2=2.2, y3=0.9, ramp=0.02), angle=math.pi / 4)
+    >>> jerk = sa.FiniteJerkProfile(dt=1.05, dy=0.084, y2=2.2, y3=0.9, ramp=0.02)
+    >>> profile = sa.PlanarProfile(jerk, angle=math.pi / 4)
     >>> result = planar_smooth.run(sa.Scene(profile, periods=2), {"max_events": 1000})
     >>> result.reason.name, result.sticks, result.slips
     ('PERIODS', 2, 2)

@@ -96,7 +96,6 @@ from .codes import (
     QRATIO,
     QSAMPLE,
     QSIN,
-    QSHIFT,
     QTAU0,
     REASON_ACCUMULATION,
     REASON_MAX_EVENTS,
