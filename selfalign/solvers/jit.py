@@ -37,9 +37,9 @@ from ..model.errors import SelfalignError
 #: module of the package it imports, directly or not (tests/test_jit.py checks the closure).
 SOURCES = tuple(f"solvers/engine/{name}.py" for name in (
     "entries", "codes", "compiled", "recording", "field", "piecewise", "smooth", "jerk_zone", "timestepping", "drive",
-    "python_stepper", "dense", "parts")) + ("solvers/records.py", "solvers/outcomes.py", "model/arcs.py",
-                                            "model/friction.py", "model/parts.py", "model/registry.py",
-                                            "model/errors.py")
+    "python_stepper", "dense", "parts", "planar")) + ("solvers/records.py", "solvers/outcomes.py", "model/arcs.py",
+                                                      "model/friction.py", "model/parts.py", "model/planar_slip.py",
+                                                      "model/registry.py", "model/errors.py")
 #: The logger that announces a compilation (and how long it took).
 LOGGER = logging.getLogger(__name__)
 #: Wall time of compiling the entry points of one solver run on an empty cache, as told to the
@@ -102,7 +102,7 @@ def kernel():
     except ImportError as exc:
         raise KernelError(f"the exact and Moreau solvers run compiled code and need numba: {exc}; "
                           "install it with `pip install numba`") from None
-    from ..model import arcs, friction, parts  # noqa: F401  (they fill the registry)
+    from ..model import arcs, friction, parts, planar_slip  # noqa: F401  (they fill the registry)
     from ..model.registry import FORMULAS, HELPERS
     from . import records
 
