@@ -188,11 +188,14 @@ def test_a_long_run_ends_finite_without_hanging():
     assert result.sticks >= 100_000 and result.t_end == pytest.approx(100_000 * 1.05, rel=1e-15)
 
 
-def test_the_event_budget_and_bad_scenes_are_refused_clearly():
-    """MAX_EVENTS ends a run with its message; a 1-D scene, strips and smooth profiles are refused with a
-    ValueError naming what the closed-form planar solver needs."""
+def test_the_event_budget_an_overflow_and_bad_scenes_end_clearly():
+    """MAX_EVENTS ends a run with its message; an overflow ends it with NONFINITE at the last finite period start
+    (not a NaN); a 1-D scene, strips and smooth profiles are refused with a ValueError naming what the closed-form
+    planar solver needs."""
     short = planar_exact.run(sa.Scene(_diagonal(), x0=(0.0, 0.0), periods=10), {"max_events": 5})
     assert short.reason is Reason.MAX_EVENTS and "max_events = 5" in short.message
+    huge = planar_exact.run(sa.Scene(_diagonal(), x0=(0.0, 0.0), v0=(1e308, 1e308), periods=3), OPTIONS)
+    assert huge.reason is Reason.NONFINITE and huge.t_end == 1.05 and np.isfinite(huge.x_end).all()
     with pytest.raises(ValueError, match="planar scene"):
         planar_exact.run(sa.Scene(FIG18, periods=1), OPTIONS)
     with pytest.raises(ValueError, match="surface must be uniform"):

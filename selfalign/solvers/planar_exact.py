@@ -155,7 +155,7 @@ def _shifted(rows: np.ndarray, x0: np.ndarray, column: int = 0) -> np.ndarray:
 
 
 def _message(reason: Reason, max_events: int, counters, state, dt: float) -> str:
-    t = counters[C.PC_N_END] * dt + state[C.PL_TAU_END]
+    t = float(counters[C.PC_N_END] * dt + state[C.PL_TAU_END])
     if reason is Reason.MAX_EVENTS:
         return f"max_events = {max_events} reached at t = {t!r}; raise max_events"
     if reason is Reason.STALL:
@@ -164,6 +164,6 @@ def _message(reason: Reason, max_events: int, counters, state, dt: float) -> str
         return (f"non-finite state in the period from t = {t!r} (the arithmetic overflows at these scales); the "
                 f"state at its start is kept")
     if reason is Reason.REST:
-        return (f"at rest for good: stuck where r mu_bar = {state[C.PL_RATIO] * state[C.PL_MU]!r} >= max|Y''| = "
-                f"{state[C.PL_REST]!r}")
+        return (f"at rest for good: stuck where r mu_bar = {float(state[C.PL_RATIO] * state[C.PL_MU])!r} >= "
+                f"max|Y''| = {float(state[C.PL_REST])!r}")
     return ""
