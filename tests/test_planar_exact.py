@@ -35,11 +35,12 @@ def _slip(k, seed):
     return rng.normal(size=2), -g * np.array([np.cos(angle), np.sin(angle)]), k * g
 
 
-@pytest.mark.parametrize("k", [0.3, 0.5, 1.0 - 1e-6, 1.0, 1.0 + 1e-6, 1.7, 5.0])
+@pytest.mark.parametrize("k", [1e-6, 0.3, 0.5, 1.0 - 1e-6, 1.0, 1.0 + 1e-6, 1.7, 5.0, 1e6])
 def test_closed_form_slip_matches_a_high_precision_integration(k):
     """The closed form (planar-model.md, "Closed-form slip") solves v' = -A - mu v/|v|: for random A, mu and v0,
     its displacement and velocity agree with DOP853 at rtol 1e-13 to 1e-12, for k < 1, at k = 1 and the special
-    exponent k = 1/2, near 1 on both sides, and for k > 1 up to 0.9 of the stop time."""
+    exponent k = 1/2, near 1 on both sides, for k > 1 up to 0.9 of the stop time, and at the extremes k = 1e-6
+    (friction negligible) and k = 1e6 (the drive negligible)."""
     for seed in range(4):
         v0, acc, mu = _slip(k, seed)
         g, _, _, _, _, a, b, _ = S.slip_frame(*v0, *acc)
