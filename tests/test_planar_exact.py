@@ -233,3 +233,20 @@ def test_moreau_time_stepping_converges_to_the_exact_planar_solution():
         moreau = sa.simulate(scene, method="moreau", steps_per_period=steps)
         errors.append(max(np.max(np.abs(moreau.x_end - exact.x_end)), np.max(np.abs(moreau.v_end - exact.v_end))))
     assert errors[1] < 1e-4 and errors[1] < errors[0] / 4.0
+
+
+def test_a_line_at_an_angle_is_the_1d_model_on_that_line_under_static_friction():
+    """The collinear tie (planar-model.md, "Collinear slips": a velocity within 16 ulp of the line of Y'' slips on
+    that line): a slip against the drive with mu < |Y''| <= r mu stops and sticks in 1-D, and does the same on a line
+    turned by any angle: the end state is the turned 1-D one to 1e-12, and the part sticks."""
+    law = sa.FrictionLaw("static_kinetic", 1.2)
+    line = sa.PiecewiseConstantProfile([0.0, 0.5, 1.0], [-1.1, 1.1], 0.0, 0.55)
+    base = planar_exact.run(_planar(line, friction=law, x0=(0.0, 0.0), v0=(-1.0, 0.0), periods=2), OPTIONS)
+    assert base.sticks >= 1 and base.v_end.tolist() == [0.0, 0.0]
+    for theta in (0.7, 2.0, -2.9):
+        rot = sa.model.planar.rotation(theta)
+        turned = sa.Scene(sa.PlanarProfile(x=line, angle=theta), friction=law, x0=(0.0, 0.0),
+                          v0=tuple(rot @ [-1.0, 0.0]), periods=2)
+        got = planar_exact.run(turned, OPTIONS)
+        assert got.sticks == base.sticks and got.v_end.tolist() == [0.0, 0.0]
+        assert np.max(np.abs(got.x_end - rot @ base.x_end)) <= 1e-12

@@ -44,6 +44,9 @@ COLLINEAR, CURVED = 0, 1
 #: A curved slip needs k = mu / G below this (beyond it A turns v by less than 2^-1000 of a radian before it
 #: stops, far below rounding, and the exponents of the closed form would overflow): otherwise it is collinear.
 MAX_K = 2.0 ** 1000
+#: A velocity within this many ulp of the line of A (transverse speed |q| <= 2 COLLINEAR_ULPS eps |v|) slips on
+#: that line (:func:`slip_shape`): the rounding of a velocity along a turned line is a few ulp.
+COLLINEAR_ULPS = 16.0
 #: Safeguarded Newton iterations of :func:`slip_parameter` at most (it converges in fewer than 10 in practice).
 NEWTON_STEPS = 200
 #: A parameter y beyond which every exponential of a stopping slip underflows (e^{-745} = 0 in doubles), over
@@ -93,13 +96,17 @@ def slip_invariants(p: float, q: float):
 
 @formula(unnumbered="which closed form a slip takes: a case distinction (" + _PAGE + ")")
 def slip_shape(vx: float, vy: float, ax: float, ay: float, mu: float) -> int:
-    """:data:`CURVED` where the table acceleration (ax, ay) turns the velocity (vx, vy) (not parallel,
-    v != 0, G = |A| > 0, mu / G < :data:`MAX_K` and both invariants a, b representable), else
-    :data:`COLLINEAR`: the slip then stays on the line of v (or of -A from rest), a quadratic arc."""
+    """:data:`CURVED` where the table acceleration (ax, ay) turns the velocity (vx, vy), else :data:`COLLINEAR`:
+    the slip then stays on the line of v, a quadratic arc.
+
+    Collinear are: v x A = 0 in floating point, A = 0, mu / G >= :data:`MAX_K`, an invariant a or b that
+    underflows, and a velocity within :data:`COLLINEAR_ULPS` ulp of the line of A (|q| / |v| below
+    2 COLLINEAR_ULPS eps): the transverse velocity left out is the rounding of v, so that a table motion along
+    a line at any angle is the 1-D model on that line (its stops, sticks and reversals included)."""
     if vx * ay - vy * ax == 0.0 or not mu < MAX_K * math.hypot(ax, ay):
         return COLLINEAR
-    _, _, _, _, _, a, b, _ = slip_frame(vx, vy, ax, ay)
-    if a > 0.0 and b > 0.0 and math.isfinite(a):
+    _, _, _, _, _, a, b, h = slip_frame(vx, vy, ax, ay)
+    if a > 0.0 and b > 0.0 and math.isfinite(a) and h > COLLINEAR_ULPS * _EPS * (a + b):
         return CURVED
     return COLLINEAR
 
