@@ -195,8 +195,11 @@ def test_the_event_budget_an_overflow_and_bad_scenes_end_clearly():
     planar solver needs."""
     short = planar_exact.run(sa.Scene(_diagonal(), x0=(0.0, 0.0), periods=10), {"max_events": 5})
     assert short.reason is Reason.MAX_EVENTS and "max_events = 5" in short.message
-    huge = planar_exact.run(sa.Scene(_diagonal(), x0=(0.0, 0.0), v0=(1e308, 1e308), periods=3), OPTIONS)
+    record = sa.Record(series=("x",), samples_per_period=4)
+    huge = planar_exact.run(sa.Scene(_diagonal(), x0=(0.0, 0.0), v0=(1e308, 1e308), periods=3, record=record),
+                            OPTIONS)
     assert huge.reason is Reason.NONFINITE and huge.t_end == 1.05 and np.isfinite(huge.x_end).all()
+    assert len(huge.samples) == 5 and np.isfinite(huge.samples["x"]).all()
     with pytest.raises(ValueError, match="planar scene"):
         planar_exact.run(sa.Scene(FIG18, periods=1), OPTIONS)
     with pytest.raises(ValueError, match="surface must be uniform"):

@@ -136,13 +136,16 @@ def run_pieces(starts, accels, dt: float, *, tau0: float = 0.0, x0=(0.0, 0.0), v
         if counters[C.PC_LOG] <= size:
             break
         size = int(counters[C.PC_LOG])
+    written = int(counters[C.PC_SAMPLES])
+    if reason == C.REASON_NONFINITE:           # the samples up to the start of the period that failed
+        written = min(written, int(counters[C.PC_N_END]) * spp + 1)
     return {"reason": Reason(int(reason)), "period_end": int(counters[C.PC_N_END]),
             "tau_end": float(state[C.PL_TAU_END]), "x_end": state[[C.PL_X, C.PL_Y]] + x0,
             "v_end": state[[C.PL_VX, C.PL_VY]].copy(), "mode": int(counters[C.PC_MODE]),
             "sticks": int(counters[C.PC_STICKS]), "slips": int(counters[C.PC_SLIPS]),
             "reversals": int(counters[C.PC_REVERSALS]), "breaks": int(counters[C.PC_BREAKS]),
             "arcs": int(counters[C.PC_ARCS]), "events": int(counters[C.PC_EVENTS]),
-            "samples": _shifted(samples[:counters[C.PC_SAMPLES]], x0) if spp else None,
+            "samples": _shifted(samples[:written], x0) if spp else None,
             "log": _shifted(entries[:counters[C.PC_LOG]], x0, column=3) if log else None,
             "message": _message(Reason(int(reason)), max_events, counters, state, dt)}
 
