@@ -168,7 +168,7 @@ def run_pieces(starts, accels, dt: float, *, tau0: float = 0.0, x0=(0.0, 0.0), v
 
     >>> from selfalign.solvers.planar_exact import run_pieces
     >>> out = run_pieces([0.0, 0.5], [[-2.0, 0.0], [2.0, 0.0]], 1.0, periods=1)
-    >>> out["reason"].name, round(out["x_end"][0], 12), out["v_end"].round(12).tolist(), out["reversals"]
+    >>> out["reason"].name, round(float(out["x_end"][0]), 12), out["v_end"].round(12).tolist(), out["reversals"]
     ('PERIODS', 0.111111111111, [-0.333333333333, 0.0], 1)
     """
     x0 = np.asarray(x0, dtype=float)
