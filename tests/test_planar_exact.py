@@ -253,3 +253,17 @@ def test_a_line_at_an_angle_is_the_1d_model_on_that_line_under_static_friction()
         got = planar_exact.run(turned, OPTIONS)
         assert got.sticks == base.sticks and got.v_end.tolist() == [0.0, 0.0]
         assert np.max(np.abs(got.x_end - rot @ base.x_end)) <= 1e-12
+
+
+def test_a_tiny_start_speed_followed_by_a_long_acceleration_stays_finite():
+    """The terms of the closed form are integrals of decaying weights taken from both ends (planar-model.md, "The
+    form that is computed"): a start speed of 1e-200 across the drive, accelerated for a unit time (y ~ 650, where
+    a^2 underflows and e^{2(1-k)y} overflows), gives the slip from rest along -A to 1e-12."""
+    acc, mu = np.array([-1.5, 0.8]), 0.5
+    g = np.hypot(*acc)
+    along = -acc / g
+    rest = (0.5 * (g - mu) * along).tolist() + ((g - mu) * along).tolist()
+    for angle in (0.3, 2.0, -1.2):
+        v0 = 1e-200 * np.array([np.cos(angle), np.sin(angle)])
+        assert S.slip_shape(*v0, *acc, mu) == S.CURVED
+        assert S.slip_step(*v0, *acc, mu, 1.0) == pytest.approx(rest, abs=1e-12)
