@@ -15,6 +15,7 @@ from .compiled import borrowed, jit
 from .dense import modes, sample_arcs
 from .drive import run_members, run_recorded
 from .parts import run_parts
+from .planar import run_planar
 from .planar_smooth import run_planar_smooth
 from .python_stepper import after_period_entry, begin_entry, finish_entry, moved_entry, stick_entry
 
@@ -70,6 +71,13 @@ def parts_run(f, g, q, c, row, periods, max_events):
 
 
 @jit
+def planar_run(f, c, starts, accels, periods, until_rest, max_events, spp, samples, log):
+    """:func:`~.planar.run_planar`: the exact planar stepper on a piecewise-constant table acceleration, on its own
+    state arrays (:mod:`selfalign.solvers.engine.planar`); returns the reason code."""
+    return run_planar(borrowed(f), borrowed(c), borrowed(starts), borrowed(accels), periods, until_rest, max_events,
+                      spp, borrowed(samples), borrowed(log))
+
+
 def planar_smooth_run(rows, pieces, strips, q, f, c, samples, log):
     """:func:`~.planar_smooth.run_planar_smooth`: the general exact stepper of planar motion, on its own arrays
     (:mod:`selfalign.solvers.planar_smooth`); returns the reason code."""
@@ -97,5 +105,5 @@ def member_run(code, members):
 
 
 __all__ = ["MEMBER_RUNS", "RECORDED_RUNS", "UNIFORM_MEMBER_RUNS", "after_period_entry", "begin_entry", "finish_entry",
-           "member_run", "modes", "moved_entry", "parts_run", "planar_smooth_run", "sample_arcs",
+           "member_run", "modes", "moved_entry", "parts_run", "planar_run", "planar_smooth_run", "sample_arcs",
            "stick_entry"]
