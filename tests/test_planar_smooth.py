@@ -220,3 +220,15 @@ def test_moreau_converges_to_it_at_first_order():
               for n in steps]
     order = -np.polyfit(np.log(steps), np.log(errors), 1)[0]
     assert 0.8 <= order <= 1.2 and errors[-1] < 1e-3
+
+
+def test_bad_scenes_are_refused_before_the_run():
+    """Bad input gets a clear error before any work: a 1-D scene, and Stribeck friction (docs/explanation/
+    planar-model.md: the planar model takes Coulomb and static/kinetic friction)."""
+    with pytest.raises(ValueError, match="planar scene"):
+        run(sa.Scene(JERK, periods=1))
+    stribeck = sa.FrictionLaw("stribeck", mu_s_over_mu_k=1.5, v_s=0.1)
+    scene = sa.Scene(sa.PlanarProfile(JERK), periods=1)
+    object.__setattr__(scene, "friction", stribeck)          # the scene refuses it itself; the solver too
+    with pytest.raises(ValueError, match="friction.kind"):
+        run(scene)

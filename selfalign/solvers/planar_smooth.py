@@ -107,6 +107,8 @@ def run(scene, options: dict) -> PlanarResult:
 
     Raises
     ------
+    ValueError
+        If ``scene`` is not planar, or its friction law is neither Coulomb's nor static/kinetic.
     KernelError
         If the compiled stepper cannot be compiled on this machine.
 
@@ -125,6 +127,12 @@ def run(scene, options: dict) -> PlanarResult:
     >>> bool(abs(result.x_end[0] - result.x_end[1]) < 1e-15)
     True
     """
+    if not getattr(scene, "planar", False):
+        raise ValueError("scene must be a planar scene (a PlanarProfile): the general exact planar solver simulates "
+                         "planar motion only")
+    if scene.friction.kind not in ("coulomb", "static_kinetic"):
+        raise ValueError(f"scene.friction.kind must be coulomb or static_kinetic for planar motion, got "
+                         f"{scene.friction.kind!r}")
     profile = scene.profile
     dt = float(profile.dt)
     shift = float(profile.offset) * dt
@@ -136,8 +144,8 @@ def run(scene, options: dict) -> PlanarResult:
     spp = scene.record.samples_per_period
     q = np.zeros(C.GENERAL_SETTINGS)
     q[C.GS_DT], q[C.GS_SHIFT], q[C.GS_COS], q[C.GS_SIN] = dt, shift, math.cos(profile.angle), math.sin(profile.angle)
-    q[C.GS_RATIO], q[C.GS_AMAX], q[C.GS_TAU0], q[C.GS_SAMPLE] = (scene.friction.ratio, profile.max_abs_acceleration, tau0,
-                                                         dt / spp)
+    q[C.GS_RATIO], q[C.GS_AMAX] = scene.friction.ratio, profile.max_abs_acceleration
+    q[C.GS_TAU0], q[C.GS_SAMPLE] = tau0, dt / spp
     q[C.GS_ACC_TOL] = options.get("accumulation_tol", ACCUMULATION_TOL)
     q[C.GS_GRID] = dt / (GRID_PER_HARMONIC * (harmonics + 1)) if harmonics > 0 else 0.0
     n_samples = scene.horizon_periods * spp + 1 if scene.record.dense else 0
@@ -160,7 +168,8 @@ def run(scene, options: dict) -> PlanarResult:
         if c[C.GI_LOG] <= log_room:
             break
         log_room = int(c[C.GI_LOG])
-    return _result(scene, options, Reason(code), f, c, samples[:c[C.GI_SAMPLES]], log[:c[C.GI_LOG]] if log_room else None)
+    log = log[:c[C.GI_LOG]] if log_room else None
+    return _result(scene, options, Reason(code), f, c, samples[:c[C.GI_SAMPLES]], log)
 
 
 def _result(scene, options, reason, f, c, samples, log) -> PlanarResult:

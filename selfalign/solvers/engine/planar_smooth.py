@@ -84,12 +84,6 @@ from .codes import (
     GI_STEPS,
     GI_STICKS,
     GI_UNTIL_REST,
-    NAN,
-    PIECE_END,
-    PIECE_OFFSET,
-    PIECE_START,
-    PIECE_X,
-    PIECE_Y,
     GS_ACC_TOL,
     GS_AMAX,
     GS_COS,
@@ -99,6 +93,12 @@ from .codes import (
     GS_SAMPLE,
     GS_SIN,
     GS_TAU0,
+    NAN,
+    PIECE_END,
+    PIECE_OFFSET,
+    PIECE_START,
+    PIECE_X,
+    PIECE_Y,
     REASON_ACCUMULATION,
     REASON_MAX_EVENTS,
     REASON_MAX_PERIODS,
@@ -640,6 +640,7 @@ def run_planar_smooth(rows, pieces, strips, q, f, c, samples, log):
         while record_samples and c[GI_SAMPLES] < samples.shape[0]:
             _record(samples, c, GI_SAMPLES, tau0 + c[GI_SAMPLES] * q[GS_SAMPLE], y[0], y[1], y[2], y[3],
                     0.0 if mode == 0 else 1.0)
-    f[GF_X], f[GF_Y], f[GF_VX], f[GF_VY], f[GF_TAU], f[GF_UX], f[GF_UY], f[GF_H] = y[0], y[1], y[2], y[3], tau, u[0], u[1], h
+    f[GF_X], f[GF_Y], f[GF_VX], f[GF_VY] = y[0], y[1], y[2], y[3]
+    f[GF_TAU], f[GF_UX], f[GF_UY], f[GF_H] = tau, u[0], u[1], h
     c[GI_PERIOD], c[GI_PIECE], c[GI_MODE], c[GI_STALLED] = n, p, mode, stalled
     return reason
