@@ -90,6 +90,22 @@ def test_rotating_the_scene_rotates_the_trajectory(theta):
     assert np.max(np.abs(rotate(base.samples["x"].T, theta).T - turned.samples["x"])) <= 1e-12
 
 
+def test_it_meets_the_closed_form_where_a_strip_is_never_reached():
+    """Two independent exact steppers on one model (docs/explanation/planar-model.md): on a two-axis three-phase
+    motion whose slips turn at every switch (Y'' turns by 22 to 68 degrees while the part slides), with a strip
+    the part never reaches, the general stepper's end state and samples are the closed form's on a uniform
+    surface to 1e-12.  A slip from rest that stayed slaved to -Y'' across a switch (its velocity snapped to the
+    new direction) fails it by 4e-3."""
+    profile = sa.PlanarProfile(THREE, THREE, offset=0.25)
+    record = sa.Record(series=("x", "v"), samples_per_period=20)
+    closed = sa.simulate(sa.Scene(profile, x0=(0.0, 0.0), periods=6, record=record))
+    general = run(sa.Scene(profile, [sa.Strip((0.6, 0.8), 30.0, 0.05, 2.5)], x0=(0.0, 0.0), periods=6,
+                           record=record))
+    np.testing.assert_allclose(general.x_end, closed.x_end, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(general.samples["x"], closed.x, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(general.samples["v"], closed.v, rtol=0, atol=1e-12)
+
+
 def test_a_strip_parallel_to_the_motion_never_stops_the_part():
     """docs/explanation/planar-model.md: a strip whose normal is perpendicular to the table's acceleration, the
     part starting outside it, is never reached: the run equals the one on a uniform surface exactly and ends
