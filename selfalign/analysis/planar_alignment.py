@@ -35,6 +35,9 @@ from .planar_drift import SteadyDrift, _check_method, _check_profile, steady_dri
 
 #: A part counts as at x_stick_min (accumulated) within this many body widths along n.
 AT_LIMIT_WIDTHS = 1e-6
+#: A steady drift slower than this counts as none (velocity units of Sect. 3.2): the steady state is declared
+#: when the period-boundary velocity repeats within 1e-10, and a symmetric orbit's v_bar keeps that order.
+MIN_DRIFT = 1e-8
 
 
 def _rotate(vector: np.ndarray, angle: float) -> np.ndarray:
@@ -372,8 +375,8 @@ def line_alignment(profile: PlanarProfile, *, w: float, c_mu: float, angles, dis
     max_periods = check_integer("max_periods", max_periods)
     angles = _axis("angles", angles, 0.0, 1.5)
     drift = steady_drift(profile, method=method, solver_options=solver_options)
-    if drift.speed == 0.0:
-        raise ValueError("the table motion does not drift (v_bar = 0): no entry reaches a strip")
+    if drift.speed <= MIN_DRIFT:
+        raise ValueError(f"the table motion does not drift (|v_bar| = {drift.speed:.3g}): no entry reaches a strip")
     direction = drift.v_bar / drift.speed
     normals, runs = [], []
     for angle in angles:
@@ -499,8 +502,9 @@ def corner_alignment(profile: PlanarProfile, *, w: float, c_mu: float, half_angl
     if not 0.0 < half_angle <= 1.5:
         raise ValueError(f"half_angle must lie in (0, 1.5] radians, got {half_angle!r}")
     drift = steady_drift(profile, method=method, solver_options=solver_options)
-    if drift.speed == 0.0:
-        raise ValueError("the table motion does not drift (v_bar = 0): no entry reaches the corner")
+    if drift.speed <= MIN_DRIFT:
+        raise ValueError(f"the table motion does not drift (|v_bar| = {drift.speed:.3g}): no entry reaches the "
+                         "corner")
     direction = drift.v_bar / drift.speed
     strips = tuple(strip_at(direction, a, x_mu=0.0, w=w, c_mu=c_mu) for a in (half_angle, -half_angle))
     normals = np.array([s.normal for s in strips])
