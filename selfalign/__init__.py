@@ -20,6 +20,7 @@ _EXPORTS = {
     "Profile": "model.profiles",
     "ThreePhaseProfile": "model.profiles",
     "Record": "model.scene", "Scene": "model.scene", "SIScale": "model.units", "Part": "model.parts",
+    "PlanarProfile": "model.planar", "Strip": "model.planar",
     "load_scene": "io.scene_files", "scene_from_dict": "io.scene_files",
     "simulate": "solvers.driver", "simulate_batch": "solvers.driver",
     "EventKind": "solvers.outcomes", "Reason": "solvers.outcomes", "Status": "solvers.outcomes",

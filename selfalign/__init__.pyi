@@ -29,6 +29,8 @@ from .model.friction import FrictionLaw as FrictionLaw
 from .model.friction import StopZone as StopZone
 from .model.friction import Uniform as Uniform
 from .model.parts import Part as Part
+from .model.planar import PlanarProfile as PlanarProfile
+from .model.planar import Strip as Strip
 from .model.profiles import FiniteJerkProfile as FiniteJerkProfile
 from .model.profiles import FourierProfile as FourierProfile
 from .model.profiles import PiecewiseConstantProfile as PiecewiseConstantProfile

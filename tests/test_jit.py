@@ -41,8 +41,9 @@ def package_imports(relative: str) -> set[str]:
 def test_cache_key_covers_every_module_the_kernel_is_built_from():
     """numba checks only the time stamp of the file of a decorated function; the cache directory is
     keyed by the content of ``SOURCES`` instead, so an edit anywhere the kernel compiles from must be
-    in it: the closure of the kernel's imports inside the package equals ``SOURCES``."""
-    closure, todo = set(), ["solvers/engine/entries.py"]
+    in it: the closure of the kernel's imports inside the package, and of the model modules whose formulas
+    ``kernel()`` registers for the steppers it compiles (``REGISTRY_MODULES``), equals ``SOURCES``."""
+    closure, todo = set(), ["solvers/engine/entries.py"] + [f"model/{name}.py" for name in jit.REGISTRY_MODULES]
     while todo:
         module = todo.pop()
         if module not in closure:

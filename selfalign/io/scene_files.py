@@ -17,6 +17,7 @@ from pathlib import Path
 from ..model.errors import NonPhysicalProfile, SceneError
 from ..model.friction import FrictionLaw, StopZone, Uniform
 from ..model.parts import Part
+from ..model.planar import PlanarProfile, Strip
 from ..model.profiles import FiniteJerkProfile, FourierProfile, PolynomialProfile, ThreePhaseProfile
 from ..model.scene import Record, Scene
 from ..model.units import SIScale
@@ -112,9 +113,11 @@ def _refuse_idle_keys(data: dict, source: str) -> None:
     surface = data.get("surface", {"kind": "uniform"})["kind"]
     method = data.get("solver", {}).get("method", "exact")
     record, horizon = data.get("record", {}), data["horizon"]
-    if "body" in data and surface != "stop_zone":
+    widthless = surface == "strips" and any("w" not in s for s in data["surface"]["strips"])
+    if "body" in data and surface != "stop_zone" and not widthless:
         raise SceneError(f"{source}: body: does nothing on a {surface} surface (the body width is the transition "
-                         f"width of a stop zone, eq. 7); remove it or give surface kind stop_zone")
+                         f"width of a stop zone, eq. 7); remove it, or give surface kind stop_zone or strips without "
+                         f"their own w")
     if record.get("arcs") and method != "exact":
         raise SceneError(f"{source}: record.arcs: does nothing with method {method!r} (closed-form arcs are the exact "
                          f"solver's); remove it or use method exact")
@@ -209,24 +212,34 @@ def scene_from_dict(data: dict, source: str = "<scene>", name: str | None = None
             return raw
         return si.to_dimensionless(raw, kind)
 
-    p = data["profile"]
-    try:
+    def line_profile(p: dict):
         dt = value(p, "dt", "time")
         if p["kind"] == "three_phase" and (p.get("ramp") or p.get("jerk")):
-            profile = FiniteJerkProfile(dt, value(p, "dy", "length"), value(p, "y2", "acceleration"),
-                                        value(p, "y3", "acceleration"), ramp=value(p, "ramp", "time"),
-                                        jerk=value(p, "jerk", "jerk"))
-        elif p["kind"] == "three_phase":         # ramp absent or 0: the paper's profile (Sect. 4.4.3)
-            profile = ThreePhaseProfile(dt, value(p, "dy", "length"), value(p, "y2", "acceleration"),
-                                        value(p, "y3", "acceleration"))
-        elif p["kind"] == "polynomial":
-            profile = PolynomialProfile(dt, value(p, "dy", "length"), p.get("forward_fraction", 0.8))
+            return FiniteJerkProfile(dt, value(p, "dy", "length"), value(p, "y2", "acceleration"),
+                                     value(p, "y3", "acceleration"), ramp=value(p, "ramp", "time"),
+                                     jerk=value(p, "jerk", "jerk"))
+        if p["kind"] == "three_phase":         # ramp absent or 0: the paper's profile (Sect. 4.4.3)
+            return ThreePhaseProfile(dt, value(p, "dy", "length"), value(p, "y2", "acceleration"),
+                                     value(p, "y3", "acceleration"))
+        if p["kind"] == "polynomial":
+            return PolynomialProfile(dt, value(p, "dy", "length"), p.get("forward_fraction", 0.8))
+        if len(p["cos_coeffs"]) != len(p["sin_coeffs"]):
+            raise ValueError("cos_coeffs and sin_coeffs must have the same length")
+        scale = si.L if data.get("units") == "si" else 1.0
+        return FourierProfile(dt, [c / scale for c in p["cos_coeffs"]], [c / scale for c in p["sin_coeffs"]])
+
+    def pair(block: dict, key: str, kind: str):
+        """A start value: a number, or a pair in a planar scene (each entry in the scene's units)."""
+        raw = block.get(key, 0.0)
+        return [value({key: v}, key, kind) for v in raw] if isinstance(raw, list) else value(block, key, kind, 0.0)
+
+    p = data["profile"]
+    try:
+        if p["kind"] == "planar":
+            profile = PlanarProfile(line_profile(p["x"]), line_profile(p["y"]) if "y" in p else None,
+                                    offset=p.get("offset", 0.0), angle=p.get("angle", 0.0))
         else:
-            if len(p["cos_coeffs"]) != len(p["sin_coeffs"]):
-                raise ValueError("cos_coeffs and sin_coeffs must have the same length")
-            scale = si.L if data.get("units") == "si" else 1.0
-            profile = FourierProfile(dt, [c / scale for c in p["cos_coeffs"]],
-                                     [c / scale for c in p["sin_coeffs"]])
+            profile = line_profile(p)
     except NonPhysicalProfile as exc:
         raise SceneError(f"{source}: profile: {exc}") from None
     except ValueError as exc:
@@ -242,6 +255,18 @@ def scene_from_dict(data: dict, source: str = "<scene>", name: str | None = None
             surface = StopZone(value(s, "x_mu", "length"), value(data["body"], "width", "length"), s["c_mu"])
         except ValueError as exc:
             raise SceneError(f"{source}: surface: {exc}") from None
+    elif s["kind"] == "strips":
+        width = value(data["body"], "width", "length") if "body" in data else None
+        surface = []
+        for i, strip in enumerate(s["strips"]):
+            if "w" not in strip and width is None:
+                raise SceneError(f"{source}: surface.strips[{i}].w is required without body.width (the transition "
+                                 f"width of eq. 7 is the body width)")
+            try:
+                surface.append(Strip(strip["normal"], value(strip, "x_mu", "length"),
+                                     value(strip, "w", "length") if "w" in strip else width, strip["c_mu"]))
+            except ValueError as exc:
+                raise SceneError(f"{source}: surface.strips[{i}]: {exc}") from None
     else:
         surface = Uniform()
     f = data.get("friction", {"kind": "coulomb"})
@@ -276,7 +301,7 @@ def scene_from_dict(data: dict, source: str = "<scene>", name: str | None = None
     try:
         scene = Scene(
             profile=profile, surface=surface, friction=friction,
-            x0=value(start, "x0", "length", 0.0), v0=value(start, "v0", "velocity", 0.0),
+            x0=pair(start, "x0", "length"), v0=pair(start, "v0", "velocity"),
             phase=start.get("phase", 0.0),
             periods=horizon.get("periods"), until=horizon.get("until"),
             max_periods=horizon.get("max_periods", 10_000),

@@ -12,11 +12,14 @@ from dataclasses import dataclass, field
 from .errors import SceneError, check_finite, check_integer
 from .friction import FrictionLaw, StopZone, Uniform
 from .parts import Part, check_parts, check_restitution, parts_friction_ratio
+from .planar import PlanarProfile, Strip, check_planar_state, check_strips
 from .profiles import Profile
 from .units import SIScale
 
 #: Series a scene may ask to record; "t" comes with any of them.
 SERIES = ("x", "v", "y", "yd", "ydd", "friction", "mode")
+#: Series a planar scene may ask to record (x and v of shape (n, 2)).
+PLANAR_SERIES = ("x", "v", "mode")
 #: Largest number of dense-output samples per period.
 MAX_SAMPLES_PER_PERIOD = 10_000_000
 #: A recording larger than this (bytes, estimated before the run) is refused.
@@ -119,18 +122,22 @@ class Scene:
 
     Parameters
     ----------
-    profile : Profile
+    profile : Profile or PlanarProfile
         The table motion y(t), e.g. a :class:`~selfalign.ThreePhaseProfile` (any profile of
-        ``selfalign.model.profiles``).
-    surface : Uniform or StopZone, optional
-        The friction field mu_bar(x) of the table (Sect. 3.3).  Default ``Uniform()``.
+        ``selfalign.model.profiles``), or a :class:`~selfalign.PlanarProfile` for motion in the plane
+        (docs/explanation/planar-model.md).
+    surface : Uniform, StopZone, Strip or list of Strip, optional
+        The friction field mu_bar(x) of the table (Sect. 3.3).  Default ``Uniform()``.  A planar scene takes
+        ``Uniform()``, a :class:`~selfalign.Strip` or a list of them (stored as a tuple; friction is the
+        largest of the strips'); a 1-D scene ``Uniform()`` or a ``StopZone``.
     friction : FrictionLaw, optional
         The friction law (``selfalign.model.friction.FrictionLaw``): the paper's Coulomb
         friction by default, or static/kinetic or Stribeck friction.
-    x0 : float, optional
-        Relative position at time ``phase * dt``; finite.  Default 0.
-    v0 : float, optional
-        Relative velocity x' at time ``phase * dt``; finite.  Default 0.
+    x0 : float or pair of float, optional
+        Relative position at time ``phase * dt``; finite; a pair (x, y) in a planar scene (stored as a
+        tuple; 0 stands for (0, 0)).  Default 0.
+    v0 : float or pair of float, optional
+        Relative velocity x' at time ``phase * dt``; finite; a pair in a planar scene.  Default 0.
     phase : float, optional
         Start time as a fraction of the period, in [0, 1).  Default 0.
     periods : int, optional
@@ -170,6 +177,10 @@ class Scene:
     horizon_periods : int
         Number of periods to simulate at most: ``periods``, or ``max_periods`` with
         ``until="rest"``.
+    planar : bool
+        True when the profile is a :class:`~selfalign.PlanarProfile`.
+    strips : tuple of Strip
+        The strips of a planar scene's surface (empty on a uniform surface, and in a 1-D scene).
 
     Raises
     ------
@@ -182,7 +193,9 @@ class Scene:
         horizon is missing, gives both ``periods`` and ``until="rest"``, or its counts are
         not integers in [1, 2**53]; ``method`` is unknown; the recording would need more
         than 2 GiB; ``parts`` is empty, overlapping, or comes with a start, friction law or record it
-        cannot have; or ``restitution`` lies outside [0, 1] or comes without ``parts``.
+        cannot have; or ``restitution`` lies outside [0, 1] or comes without ``parts``; or a planar
+        scene has a 1-D start, a stop zone, Stribeck friction, parts, or a record of series other than
+        x, v and mode (arcs and rerun included), or a 1-D scene has a pair as start or strips.
 
     See Also
     --------
@@ -205,11 +218,11 @@ class Scene:
     0.1
     """
 
-    profile: Profile
-    surface: Uniform | StopZone = field(default_factory=Uniform)
+    profile: Profile | PlanarProfile
+    surface: Uniform | StopZone | Strip | tuple[Strip, ...] = field(default_factory=Uniform)
     friction: FrictionLaw = field(default_factory=FrictionLaw)
-    x0: float = 0.0
-    v0: float = 0.0
+    x0: float | tuple[float, float] = 0.0
+    v0: float | tuple[float, float] = 0.0
     phase: float = 0.0
     periods: int | None = None
     until: str | None = None
@@ -224,14 +237,20 @@ class Scene:
     restitution: float = 0.0
 
     def __post_init__(self):
-        for key, kind, allowed in (("profile", Profile, "a selfalign profile"),
-                                   ("surface", (Uniform, StopZone), "Uniform() or StopZone(...)"),
+        for key, kind, allowed in (("profile", (Profile, PlanarProfile), "a selfalign profile or a PlanarProfile"),
                                    ("friction", FrictionLaw, "a FrictionLaw"), ("record", Record, "a Record"),
                                    ("si", (SIScale, type(None)), "an SIScale or None"),
                                    ("solver_options", dict, "a mapping of solver options")):
             if not isinstance(getattr(self, key), kind):
                 raise TypeError(f"{key} must be {allowed}, got {type(getattr(self, key)).__name__}")
-        for key in ("x0", "v0", "phase"):
+        keys = ("phase",) if self.planar else ("x0", "v0", "phase")
+        if self.planar:
+            self._check_planar()
+        elif not isinstance(self.surface, (Uniform, StopZone)):
+            raise TypeError(f"surface must be Uniform() or StopZone(...), got {self.surface!r:.80}"
+                            + ("; strips need a PlanarProfile (use StopZone in 1-D)"
+                               if isinstance(self.surface, (Strip, list, tuple)) else ""))
+        for key in keys:
             try:
                 object.__setattr__(self, key, check_finite(key, getattr(self, key)))
             except ValueError as exc:
@@ -260,6 +279,41 @@ class Scene:
                                  f"samples per period over {self.horizon_periods} periods need about "
                                  f"{size / 1024**3:.3g} GiB, more than the {RECORD_MEMORY_LIMIT / 1024**3:g} GiB "
                                  "allowed; record fewer periods or samples")
+
+    def _check_planar(self) -> None:
+        """Validate and store the start and surface of a planar scene; SceneError for what it cannot have."""
+        if isinstance(self.surface, StopZone):
+            raise SceneError("surface: a planar scene takes strips, not a StopZone: Strip(normal=(1, 0), x_mu, w, "
+                             "c_mu) is the stop zone along the first axis")
+        object.__setattr__(self, "surface", self.surface if isinstance(self.surface, (Uniform, Strip))
+                           else check_strips(self.surface))
+        check_strips(self.surface)
+        for key in ("x0", "v0"):
+            value = getattr(self, key)
+            try:
+                pair = (0.0, 0.0) if isinstance(value, (int, float)) and not isinstance(value, bool) and value == 0 \
+                    else check_planar_state(key, value)
+            except ValueError as exc:
+                raise SceneError(str(exc)) from None
+            object.__setattr__(self, key, pair)
+        if self.friction.stribeck:
+            raise SceneError("friction.kind: stribeck is not simulated in the plane; use coulomb or static_kinetic")
+        if self.parts is not None:
+            raise SceneError("parts: several parts move along one line; a planar scene has one part")
+        if set(self.record.series) - set(PLANAR_SERIES) or self.record.arcs or self.record.rerun:
+            raise SceneError(f"record: a planar scene records the series {list(PLANAR_SERIES)} and events (no arcs, "
+                             f"no rerun recording of a run; the planar stage writes its own), got series "
+                             f"{list(self.record.series)}, arcs {self.record.arcs}, rerun {self.record.rerun}")
+
+    @property
+    def planar(self) -> bool:
+        """True when the table moves in the plane (a PlanarProfile)."""
+        return isinstance(self.profile, PlanarProfile)
+
+    @property
+    def strips(self) -> tuple:
+        """The strips of a planar scene's surface (empty on a uniform surface and in 1-D)."""
+        return check_strips(self.surface) if self.planar else ()
 
     def _check_parts(self) -> None:
         """SceneError unless ``parts`` and ``restitution`` are consistent with the rest of the scene."""
@@ -296,20 +350,21 @@ class Scene:
 
     def to_dict(self) -> dict:
         """The scene as a plain dict in the YAML layout (dimensionless units)."""
-        profile = {k: v for k, v in self.profile.params().items()
-                   if k in ("kind", "dt", "dy", "y2", "y3", "ramp", "jerk", "forward_fraction", "cos_coeffs",
-                            "sin_coeffs")}
-        out = {"name": self.name, "profile": profile}
+        out = {"name": self.name, "profile": _profile_dict(self.profile)}
         if self.description:
             out["description"] = self.description
         if isinstance(self.surface, StopZone):
             out["surface"] = {"kind": "stop_zone", "x_mu": self.surface.x_mu, "c_mu": self.surface.c_mu}
             out["body"] = {"width": self.surface.w}
+        elif self.strips:
+            out["surface"] = {"kind": "strips", "strips": [{"normal": list(s.normal), "x_mu": s.x_mu, "w": s.w,
+                                                            "c_mu": s.c_mu} for s in self.strips]}
         else:
             out["surface"] = {"kind": "uniform"}
         if self.friction.kind != "coulomb":
             out["friction"] = self.friction.params()
-        out["start"] = {"x0": self.x0, "v0": self.v0, "phase": self.phase}
+        out["start"] = {"x0": list(self.x0) if self.planar else self.x0,
+                        "v0": list(self.v0) if self.planar else self.v0, "phase": self.phase}
         out["horizon"] = ({"periods": int(self.periods)} if self.until == "periods"
                           else {"until": "rest", "max_periods": int(self.max_periods)})
         out["solver"] = {"method": self.method, "options": dict(self.solver_options)}
@@ -331,3 +386,14 @@ class Scene:
         from dataclasses import replace
 
         return replace(self, **changes)
+
+
+def _profile_dict(profile) -> dict:
+    """A profile's block of a scene file: its defining parameters (a planar profile's components nested)."""
+    if isinstance(profile, PlanarProfile):
+        out = {"kind": "planar", "x": _profile_dict(profile.x)}
+        if profile.y is not None:
+            out["y"] = _profile_dict(profile.y)
+        return {**out, "offset": profile.offset, "angle": profile.angle}
+    return {k: v for k, v in profile.params().items()
+            if k in ("kind", "dt", "dy", "y2", "y3", "ramp", "jerk", "forward_fraction", "cos_coeffs", "sin_coeffs")}

@@ -23,7 +23,7 @@ from . import moreau
 from . import records as R
 from .assembly import scene_member, set_friction, trajectory
 from .jit import call, kernel
-from .methods import check_accumulation_tol, check_moreau_work, check_scene, friction_refused, resolve
+from .methods import PLANAR_OPTIONS, check_accumulation_tol, check_moreau_work, check_scene, friction_refused, resolve
 from .outcomes import MAX_CYCLE, Reason, Status
 from .results import BatchResult, Trajectory
 from .tables import kernel_row, profile_table
@@ -149,6 +149,8 @@ def simulate(scene: Scene, method: str | None = None, **options) -> Trajectory:
         options = {**scene.solver_options, **options}
     if scene.parts is not None:
         return _simulate_parts(scene, method, options)
+    if scene.planar:
+        return _simulate_planar(scene, method, options)
     prep = _prepared(scene, method, options)
     cpu0 = time.process_time()
     if method == "ivp":
@@ -216,6 +218,50 @@ def _simulate_parts(scene: Scene, method: str, given: dict) -> Trajectory:
     return Trajectory(x_end=run.x_end, v_end=run.v_end, period_end=period_end, tau_end=tau_end, status=reason.status,
                       reason=reason, message=text, method=method, options=used,
                       stats={**stats, "cpu_time": time.process_time() - cpu0}, info=info)
+
+
+def _simulate_planar(scene: Scene, method: str, given: dict) -> Trajectory:
+    """A planar scene through its solver (:func:`.planar.run_planar`), as a Trajectory whose x_end, v_end have
+    shape (2,), series ``x`` and ``v`` shape (n, 2), the events counted per kind in ``info`` (sticks, slips,
+    crossings, breaks) and the event log in ``events`` (:data:`.planar.PLANAR_EVENT_DTYPE`)."""
+    from .planar import PLANAR_EVENTS, run_planar
+
+    options = check_scene(scene, method, given)
+    dt, tau0 = scene.profile.dt, scene.phase * scene.profile.dt
+    cpu0 = time.process_time()
+    run = run_planar(scene, method, options)
+    reason = run.reason
+    if reason is Reason.REST and scene.until == "periods":
+        reason = Reason.PERIODS          # at rest for good before the horizon: nothing moves after it
+    if reason in (Reason.PERIODS, Reason.MAX_PERIODS):
+        period_end, tau_end = scene.horizon_periods, tau0
+    else:
+        period_end = int((run.t_end - tau0) // dt)
+        tau_end = run.t_end - period_end * dt
+    info = {name: getattr(run, name) for name in PLANAR_EVENTS}
+    events = sum(info.values())
+    if reason.status is Status.ERROR:
+        text = run.message
+    elif reason is Reason.REST:
+        text = (f"at rest for good at x = ({run.x_end[0]:.10g}, {run.x_end[1]:.10g}): stuck where r mu_bar(x) >= "
+                f"max|Y''| = {scene.profile.max_abs_acceleration:.6g}")
+    elif reason is Reason.ACCUMULATION:
+        text = (f"accumulation: stick positions converge to x = ({run.x_end[0]:.10g}, {run.x_end[1]:.10g}), where "
+                f"r mu_bar(x) = max|Y''| (eq. 41 along the strip's normal)")
+    else:
+        text = (f"simulated {period_end} periods in the plane: {run.sticks} sticks, {run.slips} slip starts, "
+                f"{run.crossings} strip-boundary crossings")
+    series = {}
+    if run.samples is not None:
+        series = {"t": run.samples["t"], **{name: run.samples[name] for name in scene.record.series}}
+    used = {name: options[name] for name in PLANAR_OPTIONS[method] if name in options}
+    if method == "moreau":
+        used["steps_per_period"], used["h"] = moreau.moreau_step(dt, options)
+    return Trajectory(x_end=run.x_end, v_end=run.v_end, period_end=period_end, tau_end=tau_end, status=reason.status,
+                      reason=reason, message=text, method=method, options=used, series=series,
+                      events=run.log if scene.record.events else None,
+                      stats={"events": events, "steps": run.steps, "cpu_time": time.process_time() - cpu0},
+                      info=info)
 
 
 def _recorded_run(entry, members, args, steps):

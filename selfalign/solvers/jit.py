@@ -29,6 +29,7 @@ import os
 import platform
 import sys
 import time
+from importlib import import_module
 from pathlib import Path
 
 from ..model.errors import SelfalignError
@@ -38,8 +39,11 @@ from ..model.errors import SelfalignError
 SOURCES = tuple(f"solvers/engine/{name}.py" for name in (
     "entries", "codes", "compiled", "recording", "field", "piecewise", "smooth", "jerk_zone", "timestepping", "drive",
     "python_stepper", "dense", "parts")) + ("solvers/records.py", "solvers/outcomes.py", "model/arcs.py",
-                                            "model/friction.py", "model/parts.py", "model/registry.py",
-                                            "model/errors.py")
+                                            "model/friction.py", "model/parts.py", "model/planar.py",
+                                            "model/profiles.py", "model/registry.py", "model/errors.py")
+#: The model modules whose formulas :func:`kernel` registers with numba: the kernel's own and those of the steppers
+#: compiled by :func:`compile_stepper` (their edits move the cache directory too: they are in ``SOURCES``).
+REGISTRY_MODULES = ("arcs", "friction", "parts", "planar")
 #: The logger that announces a compilation (and how long it took).
 LOGGER = logging.getLogger(__name__)
 #: Wall time of compiling the entry points of one solver run on an empty cache, as told to the
@@ -102,10 +106,11 @@ def kernel():
     except ImportError as exc:
         raise KernelError(f"the exact and Moreau solvers run compiled code and need numba: {exc}; "
                           "install it with `pip install numba`") from None
-    from ..model import arcs, friction, parts  # noqa: F401  (they fill the registry)
     from ..model.registry import FORMULAS, HELPERS
     from . import records
 
+    for name in REGISTRY_MODULES:
+        import_module(f"{__package__.rpartition('.')[0]}.model.{name}")      # they fill the registry
     for func in FORMULAS + HELPERS:
         register_jitable(func)
     for func in records.LAYOUT:
@@ -118,6 +123,35 @@ def kernel():
         numba.config.CACHE_DIR = previous
     _kernel = module
     return module
+
+
+def compile_stepper(function, what: str):
+    """``function``, a stepper written in Python over the model's formulas, compiled by numba (``nogil``,
+    ``error_model="numpy"``, ``cache=True``) after :func:`kernel` registered those formulas, and kept in the
+    kernel's cache directory (:func:`cache_dir`, keyed by the content of the model's sources; numba itself
+    checks only the time stamp of ``function``'s file), so that a later process loads it.  Returns a callable
+    that turns a numba compilation failure into :class:`KernelError` naming ``what``; its ``compiled``
+    attribute is numba's dispatcher."""
+    kernel()
+    import numba
+    from numba import njit
+    from numba.core.errors import NumbaError
+
+    previous = numba.config.CACHE_DIR
+    numba.config.CACHE_DIR = str(cache_dir(numba.__version__))
+    try:
+        compiled = njit(nogil=True, error_model="numpy", cache=True)(function)
+    finally:
+        numba.config.CACHE_DIR = previous
+
+    def run(*args):
+        try:
+            return compiled(*args)
+        except NumbaError as exc:
+            first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+            raise KernelError(f"{what} failed to compile: {first}") from exc
+    run.compiled = compiled
+    return run
 
 
 def _uncached(function) -> bool:

@@ -234,13 +234,31 @@ def parts_refused(method: str, scene, given: dict) -> str | None:
     return None
 
 
+#: The options each method takes for a planar scene (docs/explanation/planar-model.md).
+PLANAR_OPTIONS = {"exact": ("max_events",), "moreau": ("h", "steps_per_period"),
+                  "ivp": ("rtol", "atol", "integrator", "max_events")}
+
+
+def planar_refused(method: str, scene, given: dict) -> str | None:
+    """Why ``method`` with the options ``given`` cannot simulate the planar ``scene``, or None: every method
+    simulates every planar scene (the exact one in closed form for piecewise-constant Y'' on a uniform surface,
+    else on an accurate local solution); options a planar solver does not use are refused."""
+    idle = sorted(set(given) - set(PLANAR_OPTIONS[method]))
+    if idle:
+        return (f"option(s) {idle} do nothing for a planar scene; method {method!r} takes "
+                f"{list(PLANAR_OPTIONS[method])} there")
+    return None
+
+
 def scene_refused(method: str, scene, given: dict) -> str | None:
     """Why ``method`` with the options ``given`` cannot simulate ``scene``, or None: for several parts
-    :func:`parts_refused`, else the method's own refusal of the scene (its profile and surface) or of the
-    friction law (:func:`friction_refused`; an option it reads that is not given has its default, which it
-    accepts)."""
+    :func:`parts_refused`, for planar motion :func:`planar_refused`, else the method's own refusal of the scene
+    (its profile and surface) or of the friction law (:func:`friction_refused`; an option it reads that is not
+    given has its default, which it accepts)."""
     if scene.parts is not None:
         return parts_refused(method, scene, given)
+    if scene.planar:
+        return planar_refused(method, scene, given)
     return METHODS[method].refuses(scene) or friction_refused(method, scene.friction, given)
 
 
@@ -254,9 +272,10 @@ def check_scene(scene, method: str | None = None, options: dict | None = None) -
     reason = scene_refused(method, scene, given)
     if reason:
         raise ValueError(reason)
-    if scene.parts is not None:
+    if scene.parts is not None or scene.planar:
         if method == "moreau":
-            check_moreau_work(moreau_step(scene.profile.dt, options)[0], scene.horizon_periods, "horizon.periods")
+            check_moreau_work(moreau_step(scene.profile.dt, options)[0], scene.horizon_periods,
+                              "horizon.periods" if scene.until == "periods" else "horizon.max_periods")
         return options
     if method == "moreau":
         n = R.data_size(profile_row(scene.profile, scene.phase, options))

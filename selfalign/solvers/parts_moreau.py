@@ -362,28 +362,11 @@ def _stepper():
     helper), and kept in the kernel's cache directory (:func:`selfalign.solvers.jit.cache_dir`, keyed by the
     content of the model's sources; numba itself checks this file's time stamp), so that a later process
     loads it."""
-    from .jit import KernelError, cache_dir, kernel
+    from .engine.compiled import borrowed
+    from .jit import compile_stepper, kernel
 
     kernel()
-    import numba
-    from numba import njit
-    from numba.core.errors import NumbaError
     from numba.extending import overload
 
-    from .engine.compiled import borrowed
-
     overload(_borrowed)(lambda array: lambda array: borrowed(array))
-    previous = numba.config.CACHE_DIR
-    numba.config.CACHE_DIR = str(cache_dir(numba.__version__))
-    try:
-        compiled = njit(nogil=True, error_model="numpy", cache=True)(_advance)
-    finally:
-        numba.config.CACHE_DIR = previous
-
-    def advance(*args):
-        try:
-            return compiled(*args)
-        except NumbaError as exc:
-            first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
-            raise KernelError(f"the Moreau stepper of several parts failed to compile: {first}") from exc
-    return advance
+    return compile_stepper(_advance, "the Moreau stepper of several parts")

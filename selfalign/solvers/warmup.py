@@ -8,8 +8,9 @@ first (``selfalign compile``, :func:`warm_up`) lets every later process load the
 
 Each warm-up in :data:`WARMUPS` is a run of a few periods through the public solvers that reaches one
 group of entry points: the exact solver on piecewise-constant and on smooth profiles, Moreau, each with
-and without recording, batches on a uniform surface, solve_ivp's compiled decisions, and the two solvers
-of several parts.  They are independent of one another (:func:`warm_up` takes any of them).
+and without recording, batches on a uniform surface, solve_ivp's compiled decisions, the two solvers
+of several parts, and the solvers of planar motion.  They are independent of one another
+(:func:`warm_up` takes any of them).
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ from collections.abc import Callable, Iterable
 
 from ..model.friction import StopZone, Uniform
 from ..model.parts import Part
+from ..model.planar import PlanarProfile, Strip
 from ..model.profiles import FourierProfile, ThreePhaseProfile
 from ..model.scene import Record, Scene
 from .driver import simulate, simulate_batch
@@ -41,6 +43,14 @@ def _scene(profile, **kwargs) -> Scene:
 
 def _recorded() -> Record:
     return Record(series=("x", "v"), samples_per_period=8, events=True, arcs=True)
+
+
+def _planar(profile=None) -> Scene:
+    """Three periods of a planar motion (``profile`` on both axes, a quarter period apart; default Fig. 18's)
+    over a strip."""
+    profile = _three_phase() if profile is None else profile
+    return Scene(PlanarProfile(profile, profile, offset=0.25), Strip((0.6, 0.8), 0.15, 0.05, 2.5), x0=(0.0, 0.0),
+                 periods=3)
 
 
 #: Warm-up name -> (what it compiles, a run that reaches it).
@@ -66,6 +76,8 @@ WARMUPS: dict[str, tuple[str, Callable[[], object]]] = {
     "parts_moreau": ("Moreau time-stepping of several parts",
                      lambda: simulate(_scene(_three_phase(), parts=[Part(-0.1, width=0.05), Part(0.0, width=0.05)]),
                                       method="moreau", steps_per_period=20)),
+    "planar_moreau": ("Moreau time-stepping in the plane",
+                      lambda: simulate(_planar(), method="moreau", steps_per_period=20)),
 }
 
 
