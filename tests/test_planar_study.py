@@ -11,7 +11,6 @@ import math
 
 import numpy as np
 import pytest
-from selfalign.model.planar import PlanarProfile
 
 import selfalign as sa
 from selfalign.analysis.planar_alignment import (
@@ -33,6 +32,7 @@ from selfalign.analysis.planar_drift import (
 from selfalign.analysis.steady_state import steady_state
 from selfalign.io.hdf5 import read_dataset_attrs, read_h5, reproducible_bytes, write_h5
 from selfalign.io.recording import Boxes, Recording, read_boxes, read_lines, write_recording
+from selfalign.model.planar import PlanarProfile
 from selfalign.plots.planar import alignment_figure, drift_figure
 from selfalign.stages.planar import planar_recording, planar_results
 
@@ -45,21 +45,21 @@ STEADY = 1e-8
 
 #: A shrunk stage (the workflow's config is larger): every group, a few runs each.
 SMALL = {"method": "exact", "tol": 1e-10, "max_periods": 5000,
-         "three_phase": dict(zip(("dt", "dy", "y2", "y3"), FIG18)), "phases": 2, "ratios": [0.0, 0.5],
+         "three_phase": dict(zip(("dt", "dy", "y2", "y3"), FIG18)), "offsets": 2, "ratios": [0.0, 0.5],
          "harmonic": {"dt": 1.0, "a": 0.05, "second": 0.3},
          "harmonic_ratios": [0.0, 0.5], "symmetric": {"a": 0.05, "ratios": [1.0], "angle": 0.5},
          "low_scales": [0.4],
          "limit": {"scales": [8.0, 16.0], "three_phase": {"dt": 1.0, "dy": 0.064, "y2": 3.0, "y3": 1.5,
-                                                          "ratio": 0.5, "phase": 0.3},
-                   "harmonic": {"ratio": 0.4, "phase": 0.25}},
-         "alignment": {"w": W, "c_mu": C_MU, "planar": {"ratio": 0.4, "phase": 0.5}, "angles": [0.0, 40.0],
-                       "distance": 0.1, "offsets": 2, "lateral": [0.0, 0.05], "max_periods": 400,
-                       "corner": {"half_angle": 45.0, "offsets": 1, "lateral": [-0.1, 0.1]},
+                                                          "ratio": 0.5, "offset": 0.3},
+                   "harmonic": {"ratio": 0.4, "offset": 0.25}},
+         "alignment": {"w": W, "c_mu": C_MU, "planar": {"ratio": 0.4, "offset": 0.5}, "angles": [0.0, 40.0],
+                       "distance": 0.1, "starts": 2, "lateral": [0.0, 0.05], "max_periods": 400,
+                       "corner": {"half_angle": 45.0, "starts": 1, "lateral": [-0.1, 0.1]},
                        "example": {"angle": 40.0, "periods": 60}}}
 
 
-def pair(ratio, phase, scale=1.0):
-    return three_phase_pair(*FIG18, ratio=ratio, phase=phase, scale=scale)
+def pair(ratio, offset, scale=1.0):
+    return three_phase_pair(*FIG18, ratio=ratio, offset=offset, scale=scale)
 
 
 @pytest.fixture(scope="module")
@@ -100,8 +100,8 @@ def test_pair_in_phase_is_the_one_dimensional_steady_state(ratio):
 def test_harmonic_orbit_half_a_period_later_is_mirrored():
     """Hypothesis: delaying the y motion b sin(w t) by half a period more turns it into -b sin(w t), the mirror
     image y -> -y of the table motion, so v_bar is mirrored: (v_x, v_y) -> (v_x, -v_y), to STEADY."""
-    first = steady_drift(harmonic_orbit(1.0, 0.05, 0.025, phase=0.1, second=0.3)).v_bar
-    second = steady_drift(harmonic_orbit(1.0, 0.05, 0.025, phase=0.6, second=0.3)).v_bar
+    first = steady_drift(harmonic_orbit(1.0, 0.05, 0.025, offset=0.1, second=0.3)).v_bar
+    second = steady_drift(harmonic_orbit(1.0, 0.05, 0.025, offset=0.6, second=0.3)).v_bar
     assert abs(first[1]) > 1e-3
     np.testing.assert_allclose(second, [first[0], -first[1]], rtol=0, atol=STEADY)
 
@@ -133,9 +133,9 @@ def test_high_acceleration_error_falls_as_one_over_acceleration(family):
     the error over the table's peak speed falls as 1 / max|Y''|: the exponent between scales 16 and 32 lies in
     [-1.15, -0.85] and error * max|Y''| in [0.1, 2] (measured: 0.65 and 0.87)."""
     if family == "three_phase":
-        profiles = [three_phase_pair(1.0, 0.064, 3.0, 1.5, ratio=0.5, phase=0.3, scale=s) for s in (16.0, 32.0)]
+        profiles = [three_phase_pair(1.0, 0.064, 3.0, 1.5, ratio=0.5, offset=0.3, scale=s) for s in (16.0, 32.0)]
     else:
-        profiles = [harmonic_orbit(1.0, 0.05 * s, 0.02 * s, phase=0.25, second=0.3) for s in (16.0, 32.0)]
+        profiles = [harmonic_orbit(1.0, 0.05 * s, 0.02 * s, offset=0.25, second=0.3) for s in (16.0, 32.0)]
     fit = acceleration_limit(profiles)
     assert -1.15 <= fit.slope <= -0.85
     assert np.all((0.1 <= fit.error * fit.max_acceleration) & (fit.error * fit.max_acceleration <= 2.0))
@@ -208,8 +208,8 @@ def test_entry_starts_span_one_period_of_advance():
     (lambda: steady_drift(pair(0.0, 0.0), tol=0.0), ValueError, "tol"),
     (lambda: high_acceleration_drift(pair(0.0, 0.0), samples=4), ValueError, "samples"),
     (lambda: acceleration_limit([pair(0.0, 0.0)]), ValueError, "at least two"),
-    (lambda: three_phase_pair(*FIG18, ratio=-1.0, phase=0.0), ValueError, "ratio"),
-    (lambda: three_phase_pair(*FIG18, ratio=1.0, phase=1.0), ValueError, "phase"),
+    (lambda: three_phase_pair(*FIG18, ratio=-1.0, offset=0.0), ValueError, "ratio"),
+    (lambda: three_phase_pair(*FIG18, ratio=1.0, offset=1.0), ValueError, "offset"),
     (lambda: harmonic_orbit(1.0, 0.1, -0.1), ValueError, "b must"),
     (lambda: power_fit([1.0], [1.0]), ValueError, "power_fit"),
     (lambda: stick_depth(3.0, W, C_MU), ValueError, "c_mu"),

@@ -346,7 +346,7 @@ def acceleration_limit(profiles, *, method: str = "exact", tol: float = 1e-10, m
     --------
     >>> import selfalign as sa
     >>> from selfalign.analysis.planar_drift import acceleration_limit, three_phase_pair
-    >>> pairs = [three_phase_pair(1.0, 0.064, 3.0, 1.5, ratio=0.5, phase=0.3, scale=s) for s in (8.0, 16.0)]
+    >>> pairs = [three_phase_pair(1.0, 0.064, 3.0, 1.5, ratio=0.5, offset=0.3, scale=s) for s in (8.0, 16.0)]
     >>> fit = acceleration_limit(pairs)
     >>> bool(-1.3 < fit.slope < -0.7)
     True
@@ -366,14 +366,14 @@ def acceleration_limit(profiles, *, method: str = "exact", tol: float = 1e-10, m
     return AccelerationLimit(peak, v_bar, limits, error, slope, constant, np.array([d.periods for d in drifts]))
 
 
-def three_phase_pair(dt: float, dy: float, y2: float, y3: float, *, ratio: float, phase: float,
+def three_phase_pair(dt: float, dy: float, y2: float, y3: float, *, ratio: float, offset: float,
                      scale: float = 1.0) -> PlanarProfile:
     """Two three-phase profiles of one shape (Sect. 4.4.3), along x and y, the y one ``ratio`` times as large
-    and lagging by ``phase`` periods, all scaled by ``scale``.
+    and lagging by ``offset`` periods, all scaled by ``scale``.
 
-    Y(t) = scale (P(t), ratio P(t - phase dt)), P = ThreePhaseProfile(dt, dy, y2, y3); ``scale`` and
+    Y(t) = scale (P(t), ratio P(t - offset dt)), P = ThreePhaseProfile(dt, dy, y2, y3); ``scale`` and
     ``ratio`` multiply dy, y2'' and y3'' together, which keeps the shape (the switch times depend on
-    their ratios only).  At ``phase`` = 0 the motion is a line at atan(ratio) with the 1-D profile
+    their ratios only).  At ``offset`` = 0 the motion is a line at atan(ratio) with the 1-D profile
     sqrt(1 + ratio^2) scale P.
 
     Parameters
@@ -382,7 +382,7 @@ def three_phase_pair(dt: float, dy: float, y2: float, y3: float, *, ratio: float
         The three-phase profile (:class:`~selfalign.ThreePhaseProfile`).
     ratio : float
         Amplitude of the y motion over that of the x motion; >= 0 (0: the x motion alone).
-    phase : float
+    offset : float
         Lag of the y motion in periods, in [0, 1).
     scale : float, optional
         Factor on both; > 0.  Default 1.
@@ -396,32 +396,33 @@ def three_phase_pair(dt: float, dy: float, y2: float, y3: float, *, ratio: float
     TypeError
         If a number is not real.
     ValueError
-        If ``ratio`` < 0, ``scale`` <= 0, ``phase`` is outside [0, 1), or as ThreePhaseProfile.
+        If ``ratio`` < 0, ``scale`` <= 0, ``offset`` is outside [0, 1), or as ThreePhaseProfile.
 
     Examples
     --------
     >>> from selfalign.analysis.planar_drift import three_phase_pair
-    >>> pair = three_phase_pair(1.05, 0.084, 2.2, 0.9, ratio=0.5, phase=0.25)
+    >>> pair = three_phase_pair(1.05, 0.084, 2.2, 0.9, ratio=0.5, offset=0.25)
     >>> pair.acceleration(0.3).round(6).tolist()
     [-2.2, 0.0]
     """
-    ratio, scale, phase = check_finite("ratio", ratio), check_positive("scale", scale), check_finite("phase", phase)
+    ratio, scale = check_finite("ratio", ratio), check_positive("scale", scale)
+    offset = check_finite("offset", offset)
     if ratio < 0.0:
         raise ValueError(f"ratio must be >= 0 (the y amplitude over the x one), got {ratio!r}")
-    if not 0.0 <= phase < 1.0:
-        raise ValueError(f"phase must lie in [0, 1) (periods), got {phase!r}")
+    if not 0.0 <= offset < 1.0:
+        raise ValueError(f"offset must lie in [0, 1) (the lag of the y motion in periods), got {offset!r}")
     x = ThreePhaseProfile(dt, scale * dy, scale * y2, scale * y3)
     y = ThreePhaseProfile(dt, ratio * scale * dy, ratio * scale * y2, ratio * scale * y3) if ratio > 0 else None
-    return PlanarProfile(x, y, phase=phase if y is not None else 0.0)
+    return PlanarProfile(x, y, offset=offset if y is not None else 0.0)
 
 
-def harmonic_orbit(dt: float, a: float, b: float, *, phase: float = 0.25, second: float = 0.0,
+def harmonic_orbit(dt: float, a: float, b: float, *, offset: float = 0.25, second: float = 0.0,
                    angle: float = 0.0) -> PlanarProfile:
-    """A harmonic table orbit: X = a (sin wt + second sin 2wt), Y = b sin(w (t - phase dt)), w = 2 pi / dt,
+    """A harmonic table orbit: X = a (sin wt + second sin 2wt), Y = b sin(w (t - offset dt)), w = 2 pi / dt,
     rotated by ``angle``.
 
-    ``second`` = 0 gives the ellipses (``phase`` = 0.25: (a sin wt, -b cos wt), a circle for a = b) and,
-    with b = 0 or ``phase`` = 0, straight line orbits; these never drift (Y(t + dt/2) = -Y(t)).  A second
+    ``second`` = 0 gives the ellipses (``offset`` = 0.25: (a sin wt, -b cos wt), a circle for a = b) and,
+    with b = 0 or ``offset`` = 0, straight line orbits; these never drift (Y(t + dt/2) = -Y(t)).  A second
     harmonic (the sawtooth-like motion of vibratory feeders) breaks that symmetry.
 
     Parameters
@@ -430,7 +431,7 @@ def harmonic_orbit(dt: float, a: float, b: float, *, phase: float = 0.25, second
         Period; > 0.
     a, b : float
         Amplitudes of the x and y motion; a > 0, b >= 0.
-    phase : float, optional
+    offset : float, optional
         Lag of the y motion in periods, in [0, 1).  Default 0.25.
     second : float, optional
         Amplitude of the second harmonic of the x motion relative to a; finite.  Default 0.
@@ -446,7 +447,7 @@ def harmonic_orbit(dt: float, a: float, b: float, *, phase: float = 0.25, second
     TypeError
         If a number is not real.
     ValueError
-        If ``dt`` or ``a`` is not > 0, ``b`` < 0, ``phase`` is outside [0, 1) or a number is not finite.
+        If ``dt`` or ``a`` is not > 0, ``b`` < 0, ``offset`` is outside [0, 1) or a number is not finite.
 
     Examples
     --------
@@ -457,15 +458,15 @@ def harmonic_orbit(dt: float, a: float, b: float, *, phase: float = 0.25, second
     [0.1, 0.1, 0.1]
     """
     dt, a = check_positive("dt", dt), check_positive("a", a)
-    b, phase = check_finite("b", b), check_finite("phase", phase)
+    b, offset = check_finite("b", b), check_finite("offset", offset)
     second, angle = check_finite("second", second), check_finite("angle", angle)
     if b < 0.0:
         raise ValueError(f"b must be >= 0 (the y amplitude), got {b!r}")
-    if not 0.0 <= phase < 1.0:
-        raise ValueError(f"phase must lie in [0, 1) (periods), got {phase!r}")
+    if not 0.0 <= offset < 1.0:
+        raise ValueError(f"offset must lie in [0, 1) (the lag of the y motion in periods), got {offset!r}")
     x = FourierProfile(dt, [0.0, 0.0], [a, a * second]) if second else FourierProfile(dt, [0.0], [a])
     y = FourierProfile(dt, [0.0], [b]) if b > 0.0 else None
-    return PlanarProfile(x, y, phase=phase if y is not None else 0.0, angle=angle)
+    return PlanarProfile(x, y, offset=offset if y is not None else 0.0, angle=angle)
 
 
 @dataclass(frozen=True)
@@ -474,8 +475,8 @@ class DriftMap:
 
     Attributes
     ----------
-    phases : numpy.ndarray
-        The phase offsets (periods), (p,).
+    offsets : numpy.ndarray
+        The phase offsets of the y motion (periods), (p,).
     amplitudes : numpy.ndarray
         The amplitudes, (a,).
     v_bar : numpy.ndarray
@@ -497,7 +498,7 @@ class DriftMap:
     ([[2.0]], [[1.570796]])
     """
 
-    phases: np.ndarray
+    offsets: np.ndarray
     amplitudes: np.ndarray
     v_bar: np.ndarray
     periods: np.ndarray
@@ -515,16 +516,16 @@ class DriftMap:
         return np.arctan2(self.v_bar[..., 1], self.v_bar[..., 0])
 
 
-def drift_map(family: Callable[[float, float], PlanarProfile], phases, amplitudes, *, method: str = "exact",
+def drift_map(family: Callable[[float, float], PlanarProfile], offsets, amplitudes, *, method: str = "exact",
               tol: float = 1e-10, max_periods: int = 20_000, solver_options: dict | None = None) -> DriftMap:
-    """The steady v_bar of ``family(phase, amplitude)`` over a grid of phase offsets and amplitudes.
+    """The steady v_bar of ``family(offset, amplitude)`` over a grid of phase offsets and amplitudes.
 
     Parameters
     ----------
     family : callable
-        (phase, amplitude) -> PlanarProfile, e.g.
-        ``lambda p, r: three_phase_pair(1.05, 0.084, 2.2, 0.9, ratio=r, phase=p)``.
-    phases, amplitudes : array_like
+        (offset, amplitude) -> PlanarProfile, e.g.
+        ``lambda p, r: three_phase_pair(1.05, 0.084, 2.2, 0.9, ratio=r, offset=p)``.
+    offsets, amplitudes : array_like
         The grid axes, 1-D and finite.
     method, tol, max_periods, solver_options
         As :func:`steady_drift`.
@@ -543,26 +544,26 @@ def drift_map(family: Callable[[float, float], PlanarProfile], phases, amplitude
     Examples
     --------
     >>> from selfalign.analysis.planar_drift import drift_map, three_phase_pair
-    >>> m = drift_map(lambda p, r: three_phase_pair(1.05, 0.084, 2.2, 0.9, ratio=r, phase=p), [0.0], [0.0, 1.0])
+    >>> m = drift_map(lambda p, r: three_phase_pair(1.05, 0.084, 2.2, 0.9, ratio=r, offset=p), [0.0], [0.0, 1.0])
     >>> m.speed.round(6).tolist()
     [[0.062297, 0.186098]]
     """
     if not callable(family):
-        raise TypeError(f"family must be a callable (phase, amplitude) -> PlanarProfile, got {type(family).__name__}")
+        raise TypeError(f"family must be a callable (offset, amplitude) -> PlanarProfile, got {type(family).__name__}")
     axes = []
-    for name, values in (("phases", phases), ("amplitudes", amplitudes)):
+    for name, values in (("offsets", offsets), ("amplitudes", amplitudes)):
         values = np.asarray(values, dtype=float)
         if values.ndim != 1 or values.size == 0 or not np.all(np.isfinite(values)):
             raise ValueError(f"{name} must be a non-empty 1-D array of finite numbers, got {values!r}")
         axes.append(values)
-    phases, amplitudes = axes
-    shape = (phases.size, amplitudes.size)
+    offsets, amplitudes = axes
+    shape = (offsets.size, amplitudes.size)
     v_bar, periods = np.zeros(shape + (2,)), np.zeros(shape, np.int64)
     converged, peak = np.zeros(shape, bool), np.zeros(shape)
-    for i, p in enumerate(phases):
+    for i, p in enumerate(offsets):
         for j, r in enumerate(amplitudes):
             profile = _check_profile(family(float(p), float(r)))
             d = steady_drift(profile, method=method, tol=tol, max_periods=max_periods, solver_options=solver_options)
             v_bar[i, j], periods[i, j], converged[i, j] = d.v_bar, d.periods, d.converged
             peak[i, j] = profile.max_abs_acceleration
-    return DriftMap(phases, amplitudes, v_bar, periods, converged, peak)
+    return DriftMap(offsets, amplitudes, v_bar, periods, converged, peak)

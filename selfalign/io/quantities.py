@@ -490,7 +490,7 @@ QUANTITIES.update({
 #: docs/explanation/planar-alignment.md): vectors in the plane are stored with a last axis (x, y).
 _CORNER_FIRST = {0: "the first strip (normal turned by +half_angle)", 1: "the second strip (-half_angle)"}
 QUANTITIES.update({
-    "drift_*/phase": Quantity("number", "the axis: lag of the y motion in periods"),
+    "drift_*/offset": Quantity("number", "the axis: phase offset (lag) of the y motion in periods"),
     "drift_*/amplitude": Quantity("number", "the axis: amplitude of the y motion over that of the x motion"),
     "drift_*/v_bar": Quantity("velocity", "steady mean velocity vector v_bar (x, y) (eq. 10 in the plane)"),
     "drift_*/speed": Quantity("velocity", "|v_bar|"),

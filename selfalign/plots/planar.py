@@ -53,22 +53,22 @@ def drift_map_panel(ax, drift: dict, *, title: str):
     >>> from matplotlib.figure import Figure
     >>> from selfalign.plots.planar import drift_map_panel
     >>> v = np.array([[[0.1, 0.0], [0.0, 0.2]], [[0.1, 0.1], [0.0, -0.1]]])
-    >>> group = {"datasets": {"phase": np.array([0.0, 0.5]), "amplitude": np.array([0.0, 1.0]), "v_bar": v}}
+    >>> group = {"datasets": {"offset": np.array([0.0, 0.5]), "amplitude": np.array([0.0, 1.0]), "v_bar": v}}
     >>> ax = Figure().subplots()
     >>> fig = drift_map_panel(ax, group, title="demo")
     >>> ax.collections[0].get_array().round(6).tolist()
     [0.1, 0.141421, 0.2, 0.1]
     """
     d = drift["datasets"]
-    phase, amplitude, v = (np.asarray(d[k], float) for k in ("phase", "amplitude", "v_bar"))
+    offset, amplitude, v = (np.asarray(d[k], float) for k in ("offset", "amplitude", "v_bar"))
     speed = np.hypot(v[..., 0], v[..., 1])
-    mesh = ax.pcolormesh(cell_edges(phase) if phase.size > 1 else [phase[0] - 0.5, phase[0] + 0.5],
+    mesh = ax.pcolormesh(cell_edges(offset) if offset.size > 1 else [offset[0] - 0.5, offset[0] + 0.5],
                          cell_edges(amplitude) if amplitude.size > 1 else [amplitude[0] - 0.5, amplitude[0] + 0.5],
                          speed.T, cmap="viridis", shading="flat")
     ax.figure.colorbar(mesh, ax=ax, label=r"$|\bar v|$")
     with np.errstate(invalid="ignore", divide="ignore"):
         unit = np.where(speed[..., None] > 0, v / speed[..., None], 0.0)
-    p, a = np.meshgrid(phase, amplitude, indexing="ij")
+    p, a = np.meshgrid(offset, amplitude, indexing="ij")
     ax.quiver(p, a, unit[..., 0], unit[..., 1], color="w", pivot="middle", scale=1.0 / 0.6,
               scale_units="inches", width=0.006)
     ax.set_xlabel("phase offset of the y motion [periods]")
@@ -283,7 +283,7 @@ def drift_figure(result: dict) -> Figure:
     --------
     >>> import numpy as np
     >>> from selfalign.plots.planar import drift_figure
-    >>> m = {"datasets": {"phase": np.array([0.0, 0.5]), "amplitude": np.array([0.0, 1.0]),
+    >>> m = {"datasets": {"offset": np.array([0.0, 0.5]), "amplitude": np.array([0.0, 1.0]),
     ...                   "v_bar": np.ones((2, 2, 2))}}
     >>> lim = {"datasets": {"max_acceleration": np.array([10.0, 100.0]), "error": np.array([0.05, 0.005]),
     ...                     "slope": -1.0}}

@@ -42,7 +42,7 @@ PART_SIZE_WIDTHS = 0.5
 
 
 def _map_group(m: DriftMap, attrs: dict) -> dict:
-    return {"datasets": {"phase": m.phases, "amplitude": m.amplitudes, "v_bar": m.v_bar, "speed": m.speed,
+    return {"datasets": {"offset": m.offsets, "amplitude": m.amplitudes, "v_bar": m.v_bar, "speed": m.speed,
                          "direction": m.direction, "periods": m.periods, "converged": m.converged,
                          "max_acceleration": m.max_acceleration}, "attrs": attrs}
 
@@ -109,14 +109,14 @@ def planar_results(settings: dict) -> tuple[dict, dict, dict]:
 
     >>> from selfalign.stages.planar import planar_results
     >>> tp = {"dt": 1.05, "dy": 0.084, "y2": 2.2, "y3": 0.9}
-    >>> settings = {"method": "exact", "tol": 1e-10, "max_periods": 5000, "three_phase": tp, "phases": 1,
+    >>> settings = {"method": "exact", "tol": 1e-10, "max_periods": 5000, "three_phase": tp, "offsets": 1,
     ...     "ratios": [0.0], "harmonic": {"dt": 1.0, "a": 0.05, "second": 0.3}, "harmonic_ratios": [0.0],
     ...     "symmetric": {"a": 0.05, "ratios": [1.0], "angle": 0.5}, "low_scales": [0.4],
     ...     "limit": {"scales": [8.0, 16.0], "three_phase": {"dt": 1.0, "dy": 0.064, "y2": 3.0, "y3": 1.5,
-    ...               "ratio": 0.5, "phase": 0.3}, "harmonic": {"ratio": 0.4, "phase": 0.25}},
-    ...     "alignment": {"w": 0.05, "c_mu": 2.5, "planar": {"ratio": 0.4, "phase": 0.5}, "angles": [30.0],
-    ...                   "distance": 0.1, "offsets": 1, "lateral": [0.0], "max_periods": 400,
-    ...                   "corner": {"half_angle": 45.0, "offsets": 1, "lateral": [0.0]},
+    ...               "ratio": 0.5, "offset": 0.3}, "harmonic": {"ratio": 0.4, "offset": 0.25}},
+    ...     "alignment": {"w": 0.05, "c_mu": 2.5, "planar": {"ratio": 0.4, "offset": 0.5}, "angles": [30.0],
+    ...                   "distance": 0.1, "starts": 1, "lateral": [0.0], "max_periods": 400,
+    ...                   "corner": {"half_angle": 45.0, "starts": 1, "lateral": [0.0]},
     ...                   "example": {"angle": 30.0, "periods": 60}}}
     >>> datasets, attrs, groups = planar_results(settings)
     >>> groups["line_along"]["datasets"]["at_limit"].tolist()
@@ -125,12 +125,12 @@ def planar_results(settings: dict) -> tuple[dict, dict, dict]:
     method, tol, max_periods = settings["method"], float(settings["tol"]), int(settings["max_periods"])
     steady = {"method": method, "tol": tol, "max_periods": max_periods}
     tp, hm = settings["three_phase"], settings["harmonic"]
-    phases = np.arange(int(settings["phases"])) / int(settings["phases"])
-    pair = lambda p, r: three_phase_pair(tp["dt"], tp["dy"], tp["y2"], tp["y3"], ratio=r, phase=p)  # noqa: E731
-    orbit = lambda p, r: harmonic_orbit(hm["dt"], hm["a"], r * hm["a"], phase=p, second=hm["second"])  # noqa: E731
+    offsets = np.arange(int(settings["offsets"])) / int(settings["offsets"])
+    pair = lambda p, r: three_phase_pair(tp["dt"], tp["dy"], tp["y2"], tp["y3"], ratio=r, offset=p)  # noqa: E731
+    orbit = lambda p, r: harmonic_orbit(hm["dt"], hm["a"], r * hm["a"], offset=p, second=hm["second"])  # noqa: E731
     groups = {
-        "drift_three_phase": _map_group(drift_map(pair, phases, settings["ratios"], **steady), tp),
-        "drift_harmonic": _map_group(drift_map(orbit, phases, settings["harmonic_ratios"], **steady), hm),
+        "drift_three_phase": _map_group(drift_map(pair, offsets, settings["ratios"], **steady), tp),
+        "drift_harmonic": _map_group(drift_map(orbit, offsets, settings["harmonic_ratios"], **steady), hm),
     }
     sym = settings["symmetric"]
     orbits = [harmonic_orbit(hm["dt"], sym["a"], r * sym["a"]) for r in sym["ratios"]]
@@ -141,36 +141,36 @@ def planar_results(settings: dict) -> tuple[dict, dict, dict]:
                                         "periods": np.array([d.periods for d in drifts]),
                                         "max_acceleration": np.array([p.max_abs_acceleration for p in orbits])},
                            "attrs": {"dt": hm["dt"], "a": sym["a"]}}
-    low = [three_phase_pair(tp["dt"], tp["dy"], tp["y2"], tp["y3"], ratio=0.5, phase=0.3, scale=s)
+    low = [three_phase_pair(tp["dt"], tp["dy"], tp["y2"], tp["y3"], ratio=0.5, offset=0.3, scale=s)
            for s in settings["low_scales"]]
     groups["low_acceleration"] = {"datasets": {
         "scale": np.asarray(settings["low_scales"], float),
         "max_acceleration": np.array([p.max_abs_acceleration for p in low]),
         "v_bar": np.array([steady_drift(p, **steady).v_bar for p in low])}, "attrs": {**tp, "ratio": 0.5,
-                                                                                     "phase": 0.3}}
+                                                                                     "offset": 0.3}}
     lim = settings["limit"]
     lt, lh, scales = lim["three_phase"], lim["harmonic"], lim["scales"]
     groups["limit_three_phase"] = _limit_group(scales, acceleration_limit(
-        [three_phase_pair(lt["dt"], lt["dy"], lt["y2"], lt["y3"], ratio=lt["ratio"], phase=lt["phase"], scale=s)
+        [three_phase_pair(lt["dt"], lt["dy"], lt["y2"], lt["y3"], ratio=lt["ratio"], offset=lt["offset"], scale=s)
          for s in scales], **steady), lt)
     groups["limit_harmonic"] = _limit_group(scales, acceleration_limit(
-        [harmonic_orbit(hm["dt"], s * hm["a"], s * lh["ratio"] * hm["a"], phase=lh["phase"], second=hm["second"])
+        [harmonic_orbit(hm["dt"], s * hm["a"], s * lh["ratio"] * hm["a"], offset=lh["offset"], second=hm["second"])
          for s in scales], **steady), {**hm, **lh})
     al = settings["alignment"]
-    offsets = np.arange(int(al["offsets"])) / int(al["offsets"])
+    starts = np.arange(int(al["starts"])) / int(al["starts"])
     planar_attrs = {**tp, **al["planar"]}
-    motions = {"line_along": (three_phase_pair(tp["dt"], tp["dy"], tp["y2"], tp["y3"], ratio=0.0, phase=0.0),
-                              {**tp, "ratio": 0.0, "phase": 0.0}),
+    motions = {"line_along": (three_phase_pair(tp["dt"], tp["dy"], tp["y2"], tp["y3"], ratio=0.0, offset=0.0),
+                              {**tp, "ratio": 0.0, "offset": 0.0}),
                "line_planar": (three_phase_pair(tp["dt"], tp["dy"], tp["y2"], tp["y3"], **al["planar"]), planar_attrs)}
     line = {"w": al["w"], "c_mu": al["c_mu"], "distance": al["distance"], "method": method,
             "max_periods": al["max_periods"]}
     for name, (profile, attrs) in motions.items():
-        groups[name] = _line_group(line_alignment(profile, angles=np.radians(al["angles"]), offsets=offsets,
+        groups[name] = _line_group(line_alignment(profile, angles=np.radians(al["angles"]), offsets=starts,
                                                   lateral=al["lateral"], **line), attrs)
     planar = motions["line_planar"][0]
     co = al["corner"]
     corner = corner_alignment(planar, half_angle=math.radians(co["half_angle"]),
-                              offsets=np.arange(int(co["offsets"])) / int(co["offsets"]), lateral=co["lateral"], **line)
+                              offsets=np.arange(int(co["starts"])) / int(co["starts"]), lateral=co["lateral"], **line)
     groups["corner"] = _corner_group(corner, {**planar_attrs, "half_angle": math.radians(co["half_angle"])})
     ex = al["example"]
     example = line_alignment(planar, angles=[math.radians(ex["angle"])], offsets=[0.0], lateral=[0.0], **line)
