@@ -38,12 +38,13 @@ from ..model.errors import SelfalignError
 #: module of the package it imports, directly or not (tests/test_jit.py checks the closure).
 SOURCES = tuple(f"solvers/engine/{name}.py" for name in (
     "entries", "codes", "compiled", "recording", "field", "piecewise", "smooth", "jerk_zone", "timestepping", "drive",
-    "python_stepper", "dense", "parts")) + ("solvers/records.py", "solvers/outcomes.py", "model/arcs.py",
-                                            "model/friction.py", "model/parts.py", "model/planar.py",
-                                            "model/profiles.py", "model/registry.py", "model/errors.py")
+    "python_stepper", "dense", "parts", "planar")) + ("solvers/records.py", "solvers/outcomes.py", "model/arcs.py",
+                                                      "model/friction.py", "model/parts.py", "model/planar.py",
+                                                      "model/planar_slip.py", "model/profiles.py",
+                                                      "model/registry.py", "model/errors.py")
 #: The model modules whose formulas :func:`kernel` registers with numba: the kernel's own and those of the steppers
 #: compiled by :func:`compile_stepper` (their edits move the cache directory too: they are in ``SOURCES``).
-REGISTRY_MODULES = ("arcs", "friction", "parts", "planar")
+REGISTRY_MODULES = ("arcs", "friction", "parts", "planar", "planar_slip")
 #: The logger that announces a compilation (and how long it took).
 LOGGER = logging.getLogger(__name__)
 #: Wall time of compiling the entry points of one solver run on an empty cache, as told to the

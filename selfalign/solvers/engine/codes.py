@@ -73,3 +73,18 @@ PARTS_SCALARS = 11
 # crossings, opens).
 (CZONE, CSTICKS, CSLIPS, CIMPACTS, COPENINGS, CBREAKS, CLISTS) = range(7)
 PARTS_COUNTERS = CLISTS + 4
+
+
+# The exact planar stepper on a piecewise-constant table acceleration (:mod:`.planar`,
+# :mod:`selfalign.solvers.planar_exact`).  Its float state: the position relative to the origin and the
+# velocity (in: the start, out: the end), the end phase, and the run's settings (period, start phase tau0,
+# kinetic friction mu_bar, the ratio r = mu_s / mu_k, the largest |Y''| of the profile) ...
+(PL_X, PL_Y, PL_VX, PL_VY, PL_TAU_END, PL_DT, PL_TAU0, PL_MU, PL_RATIO, PL_REST) = range(10)
+PLANAR_FLOATS = 10
+# ... and its counters: the end period, the end mode (0 stick, 1 slip), the events per kind, the closed-form
+# arcs, all events (the budget max_events counts them), the log entries and the samples written.
+(PC_N_END, PC_MODE, PC_STICKS, PC_SLIPS, PC_REVERSALS, PC_BREAKS, PC_ARCS, PC_EVENTS, PC_LOG,
+ PC_SAMPLES) = range(10)
+PLANAR_COUNTERS = 10
+# Columns of its event log (period, phase, kind, x, y, vx, vy) and of its samples (x, y, vx, vy, mode).
+PLANAR_LOG_COLUMNS, PLANAR_SAMPLE_COLUMNS = 7, 5

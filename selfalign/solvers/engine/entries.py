@@ -14,6 +14,7 @@ from .compiled import borrowed, jit
 from .dense import modes, sample_arcs
 from .drive import run_members, run_recorded
 from .parts import run_parts
+from .planar import run_planar
 from .python_stepper import after_period_entry, begin_entry, finish_entry, moved_entry, stick_entry
 
 
@@ -67,6 +68,14 @@ def parts_run(f, g, q, c, row, periods, max_events):
     return run_parts(borrowed(f), borrowed(g), borrowed(q), borrowed(c), borrowed(row), periods, max_events)
 
 
+@jit
+def planar_run(f, c, starts, accels, periods, until_rest, max_events, spp, samples, log):
+    """:func:`~.planar.run_planar`: the exact planar stepper on a piecewise-constant table acceleration, on its own
+    state arrays (:mod:`selfalign.solvers.engine.planar`); returns the reason code."""
+    return run_planar(borrowed(f), borrowed(c), borrowed(starts), borrowed(accels), periods, until_rest, max_events,
+                      spp, borrowed(samples), borrowed(log))
+
+
 #: Method code -> the entry point that drives every member without recording.
 MEMBER_RUNS = {EXACT_PIECEWISE: members_piecewise, EXACT_SMOOTH: members_smooth, MOREAU: members_moreau}
 #: Method code -> the entry point for members that are all on a uniform surface, where one is compiled.
@@ -87,4 +96,4 @@ def member_run(code, members):
 
 
 __all__ = ["MEMBER_RUNS", "RECORDED_RUNS", "UNIFORM_MEMBER_RUNS", "after_period_entry", "begin_entry", "finish_entry",
-           "member_run", "modes", "moved_entry", "parts_run", "sample_arcs", "stick_entry"]
+           "member_run", "modes", "moved_entry", "parts_run", "planar_run", "sample_arcs", "stick_entry"]
