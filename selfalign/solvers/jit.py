@@ -38,10 +38,9 @@ from ..model.errors import SelfalignError
 #: module of the package it imports, directly or not (tests/test_jit.py checks the closure).
 SOURCES = tuple(f"solvers/engine/{name}.py" for name in (
     "entries", "codes", "compiled", "recording", "field", "piecewise", "smooth", "jerk_zone", "timestepping", "drive",
-    "python_stepper", "dense", "parts", "planar")) + ("solvers/records.py", "solvers/outcomes.py", "model/arcs.py",
-                                                      "model/friction.py", "model/parts.py", "model/planar.py",
-                                                      "model/planar_slip.py", "model/profiles.py",
-                                                      "model/registry.py", "model/errors.py")
+    "python_stepper", "dense", "parts", "planar", "planar_smooth")) + (
+    "solvers/records.py", "solvers/outcomes.py", "model/arcs.py", "model/friction.py", "model/parts.py",
+    "model/planar.py", "model/planar_slip.py", "model/profiles.py", "model/registry.py", "model/errors.py")
 #: The model modules whose formulas :func:`kernel` registers with numba: the kernel's own and those of the steppers
 #: compiled by :func:`compile_stepper` (their edits move the cache directory too: they are in ``SOURCES``).
 REGISTRY_MODULES = ("arcs", "friction", "parts", "planar", "planar_slip")

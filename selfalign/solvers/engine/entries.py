@@ -2,7 +2,8 @@
 returns this module): the driver for batches and recorded runs, one entry point per method
 (:data:`MEMBER_RUNS`, :data:`RECORDED_RUNS`, so that a call from Python reaches compiled code
 without specialising on the method at every call), the run of several parts on one table
-(:func:`parts_run`), the decisions a Python stepper calls, and dense output.
+(:func:`parts_run`), the general planar stepper (:func:`planar_smooth_run`), the decisions a Python
+stepper calls, and dense output.
 
 A new stepper registers here: its method code in the two tables, with one entry point each.
 """
@@ -15,6 +16,7 @@ from .dense import modes, sample_arcs
 from .drive import run_members, run_recorded
 from .parts import run_parts
 from .planar import run_planar
+from .planar_smooth import run_planar_smooth
 from .python_stepper import after_period_entry, begin_entry, finish_entry, moved_entry, stick_entry
 
 
@@ -76,6 +78,14 @@ def planar_run(f, c, starts, accels, periods, until_rest, max_events, spp, sampl
                       spp, borrowed(samples), borrowed(log))
 
 
+@jit
+def planar_smooth_run(rows, pieces, strips, q, f, c, samples, log):
+    """:func:`~.planar_smooth.run_planar_smooth`: the general exact stepper of planar motion, on its own arrays
+    (:mod:`selfalign.solvers.planar_smooth`); returns the reason code."""
+    return run_planar_smooth(borrowed(rows), borrowed(pieces), borrowed(strips), borrowed(q), borrowed(f),
+                             borrowed(c), borrowed(samples), borrowed(log))
+
+
 #: Method code -> the entry point that drives every member without recording.
 MEMBER_RUNS = {EXACT_PIECEWISE: members_piecewise, EXACT_SMOOTH: members_smooth, MOREAU: members_moreau}
 #: Method code -> the entry point for members that are all on a uniform surface, where one is compiled.
@@ -96,4 +106,5 @@ def member_run(code, members):
 
 
 __all__ = ["MEMBER_RUNS", "RECORDED_RUNS", "UNIFORM_MEMBER_RUNS", "after_period_entry", "begin_entry", "finish_entry",
-           "member_run", "modes", "moved_entry", "parts_run", "planar_run", "sample_arcs", "stick_entry"]
+           "member_run", "modes", "moved_entry", "parts_run", "planar_run", "planar_smooth_run", "sample_arcs",
+           "stick_entry"]
