@@ -72,10 +72,11 @@ def _corner_group(c: CornerAlignment, attrs: dict) -> dict:
             "attrs": {**attrs, "x_mu": 0.0, "w": c.strips[0].w, "c_mu": c.strips[0].c_mu}}
 
 
-def _example(profile, surface, start, v_start, strips, settings: dict, method: str, attrs: dict) -> dict:
+def _example(profile, surface, start, v_start, strips, settings: dict, method: str, options: dict,
+             attrs: dict) -> dict:
     """One entry's path in the plane, sampled EXAMPLE_SAMPLES times per period until rest."""
     run = simulate(Scene(profile, surface=surface, x0=tuple(start), v0=tuple(v_start), until="rest",
-                         max_periods=settings["periods"], method=method,
+                         max_periods=settings["periods"], method=method, solver_options=options,
                          record=Record(series=("x",), samples_per_period=EXAMPLE_SAMPLES)))
     return {"datasets": {"t": np.asarray(run.series["t"], float), "x": np.asarray(run.series["x"], float),
                          "normal": np.array([s.normal for s in strips]),
@@ -123,7 +124,8 @@ def planar_results(settings: dict) -> tuple[dict, dict, dict]:
     [1.0]
     """
     method, tol, max_periods = settings["method"], float(settings["tol"]), int(settings["max_periods"])
-    steady = {"method": method, "tol": tol, "max_periods": max_periods}
+    options = dict(settings.get("solver_options") or {})
+    steady = {"method": method, "tol": tol, "max_periods": max_periods, "solver_options": options}
     tp, hm = settings["three_phase"], settings["harmonic"]
     offsets = np.arange(int(settings["offsets"])) / int(settings["offsets"])
     pair = lambda p, r: three_phase_pair(tp["dt"], tp["dy"], tp["y2"], tp["y3"], ratio=r, offset=p)  # noqa: E731
@@ -163,7 +165,7 @@ def planar_results(settings: dict) -> tuple[dict, dict, dict]:
                               {**tp, "ratio": 0.0, "offset": 0.0}),
                "line_planar": (three_phase_pair(tp["dt"], tp["dy"], tp["y2"], tp["y3"], **al["planar"]), planar_attrs)}
     line = {"w": al["w"], "c_mu": al["c_mu"], "distance": al["distance"], "method": method,
-            "max_periods": al["max_periods"]}
+            "max_periods": al["max_periods"], "solver_options": options}
     for name, (profile, attrs) in motions.items():
         groups[name] = _line_group(line_alignment(profile, angles=np.radians(al["angles"]), offsets=starts,
                                                   lateral=al["lateral"], **line), attrs)
@@ -176,9 +178,9 @@ def planar_results(settings: dict) -> tuple[dict, dict, dict]:
     example = line_alignment(planar, angles=[math.radians(ex["angle"])], offsets=[0.0], lateral=[0.0], **line)
     strip = Strip(normal=tuple(example.normals[0]), x_mu=0.0, w=al["w"], c_mu=al["c_mu"])
     groups["example_line"] = _example(planar, strip, example.start[0, 0], example.drift.v_start, (strip,), ex,
-                                      method, {**planar_attrs, "angle": math.radians(ex["angle"])})
+                                      method, options, {**planar_attrs, "angle": math.radians(ex["angle"])})
     groups["example_corner"] = _example(planar, list(corner.strips), corner.entries.start[0],
-                                        example.drift.v_start, corner.strips, ex, method,
+                                        example.drift.v_start, corner.strips, ex, method, options,
                                         {**planar_attrs, "half_angle": math.radians(co["half_angle"])})
     return {}, {"method": method}, groups
 
