@@ -31,7 +31,7 @@ from ..model.planar import PlanarProfile, Strip
 from ..model.scene import Scene
 from ..solvers.driver import simulate
 from ..solvers.outcomes import Reason
-from .planar_drift import SolverFailed, SteadyDrift, _check_method, _check_profile, steady_drift
+from .planar_drift import SteadyDrift, _check_method, _check_profile, steady_drift
 
 #: A part counts as at x_stick_min (accumulated) within this many body widths along n.
 AT_LIMIT_WIDTHS = 1e-6
@@ -174,7 +174,7 @@ def _entries(profile, drift: SteadyDrift, surface, starts, method, max_periods, 
         run = simulate(Scene(profile, surface=surface, x0=tuple(start), v0=tuple(drift.v_start), until="rest",
                              max_periods=max_periods, method=method, solver_options=dict(solver_options or {})))
         if not run.success:
-            raise SolverFailed(f"the {method} solver stopped on the entry from {tuple(start)}: {run.message}")
+            raise RuntimeError(f"the {method} solver stopped on the entry from {tuple(start)}: {run.message}")
         ends[i], reasons[i] = run.x_end, int(run.reason)
         stopped[i] = Reason(run.reason) in (Reason.REST, Reason.ACCUMULATION) or limit(ends[i])
     return Entries(np.asarray(starts, float), ends, reasons, stopped)
@@ -355,7 +355,7 @@ def line_alignment(profile: PlanarProfile, *, w: float, c_mu: float, angles, dis
     ValueError
         If the profile does not drift or cannot be stopped (max|Y''| outside (1, c_mu]), or an axis is out
         of range.
-    SolverFailed
+    RuntimeError
         If a run ends with an error of the solver.
 
     Examples
@@ -486,7 +486,7 @@ def corner_alignment(profile: PlanarProfile, *, w: float, c_mu: float, half_angl
         If ``profile`` is not a PlanarProfile or a number is not real.
     ValueError
         As :func:`line_alignment`, or ``half_angle`` outside (0, 1.5].
-    SolverFailed
+    RuntimeError
         If a run ends with an error of the solver.
 
     Examples

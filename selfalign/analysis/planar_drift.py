@@ -31,7 +31,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..model.errors import SelfalignError, check_choice, check_finite, check_integer, check_positive
+from ..model.errors import check_choice, check_finite, check_integer, check_positive
 from ..model.planar import PlanarProfile
 from ..model.profiles import FourierProfile, ThreePhaseProfile
 from ..model.scene import METHODS, Record, Scene
@@ -44,18 +44,6 @@ FIRST_PERIODS = 8
 MEDIAN_SAMPLES = 8192
 #: Iterations of the geometric-median iteration (each halves the error at least once the points are spread).
 MEDIAN_ITERATIONS = 2000
-
-
-class SolverFailed(SelfalignError, RuntimeError):
-    """A run of the study ended with an error of its solver (:class:`~selfalign.Status` ERROR): the study stops
-    there rather than report a number from a broken run.
-
-    Examples
-    --------
-    >>> from selfalign.analysis.planar_drift import SolverFailed
-    >>> issubclass(SolverFailed, RuntimeError)
-    True
-    """
 
 
 def _check_profile(profile) -> PlanarProfile:
@@ -144,8 +132,8 @@ def steady_drift(profile: PlanarProfile, *, method: str = "exact", tol: float = 
         If ``profile`` is not a PlanarProfile, ``method`` is not a string or a number is not real.
     ValueError
         If ``method`` is unknown, ``tol`` <= 0 or ``max_periods`` < 1.
-    SolverFailed
-        If a run ends with an error of the solver (its message is kept).
+    RuntimeError
+        If a run ends with an error of the solver (its message is kept): no number comes from a broken run.
 
     Examples
     --------
@@ -172,7 +160,7 @@ def steady_drift(profile: PlanarProfile, *, method: str = "exact", tol: float = 
                       solver_options=dict(solver_options or {}), record=Record(series=("x", "v"), samples_per_period=2))
         run = simulate(scene)
         if not run.success:
-            raise SolverFailed(f"steady_drift: the {method} solver stopped after {done} periods: {run.message}")
+            raise RuntimeError(f"steady_drift: the {method} solver stopped after {done} periods: {run.message}")
         xs, vs = np.asarray(run.series["x"], float)[::2], np.asarray(run.series["v"], float)[::2]
         change = np.hypot(*np.diff(vs, axis=0).T)
         steady = np.flatnonzero(change <= tol)
