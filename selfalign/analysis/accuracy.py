@@ -12,6 +12,8 @@ reference:
 
 A scene with several parts (docs/explanation/several-parts.md) is studied the same way, with
 the solvers of several parts: Moreau's time-stepping against the exact event-driven solver.
+A planar scene (docs/explanation/planar-model.md) is studied with the planar solvers, all three; its
+errors are the largest over the two coordinates, max(|x_1(N) - x_1,ref(N)|, |x_2(N) - x_2,ref(N)|).
 ``solve_ivp`` cannot simulate several parts, so it is not run: the result has no group ``ivp``
 and its attribute ``ivp_not_run`` gives the reason.  An error is then the largest over the
 parts, max_i |x_i(N) - x_i,ref(N)| (the maximum norm of the end positions), and likewise for vbar.
@@ -182,7 +184,7 @@ def timed_run(scene: Scene, method: str, options: dict, min_timing: float) -> Ru
     scene = scene.replace(record=Record())
     head = simulate(scene.replace(periods=scene.horizon_periods - 1), method, **options)
     full, best = best_time(lambda: simulate(scene, method, **options), min_timing)
-    x_prev, x_end = (np.array(x, dtype=float) if scene.parts is not None else float(x)
+    x_prev, x_end = (np.array(x, dtype=float) if scene.parts is not None or scene.planar else float(x)
                      for x in (head.x_end, full.x_end))
     return Run(x_prev=x_prev, x_end=x_end, vbar=(x_end - x_prev) / scene.profile.dt, cpu_time=best,
                steps=int(full.stats.get("steps", 0)), events=int(full.stats.get("events", 0)),
@@ -255,7 +257,7 @@ def study(scene: Scene, settings: StudySettings = StudySettings(), *, progress: 
     columns (a scene with several parts has none, and the attribute ``ivp_not_run`` instead of
     ``ivp_max_err_over_rtol``; its ``x_end``, ``vbar`` have one column per part, ``x_ref_end``,
     ``vbar_ref`` one entry per part, and the attribute ``parts`` counts them, 1 for the paper's
-    scene); group ``exact`` with attributes ``x_end``, ``vbar``, ``steps``, ``events``,
+    scene; a planar scene's have two columns, the coordinates, and the attribute ``planar`` is True); group ``exact`` with attributes ``x_end``, ``vbar``, ``steps``, ``events``,
     ``status``, ``fast_forward_periods``, ``events_run_events`` and datasets ``cpu_time``,
     ``events_run_cpu_time``.  Every CPU time and what is computed from one is a dataset
     marked as a measurement (:mod:`selfalign.io.quantities`), never an attribute, so that two
@@ -285,19 +287,19 @@ def study(scene: Scene, settings: StudySettings = StudySettings(), *, progress: 
         moreau = [run("moreau", {"h": dt / int(n)}, f"Moreau h = dt/{int(n)}") for n in steps_per_period]
         ivp = [run("ivp", {"rtol": float(r), "atol": float(a)}, f"ivp rtol = {r:.0e}") for r, a in zip(rtols, atols)]
 
-        if scene.parts is None:
+        if scene.parts is None and not scene.planar:
             # Events per second of the reference computing every event (the event log switches
             # its steady-state fast-forward off); best of repeats like every other timing.
             logged = scene.replace(record=Record(events=True))
             traj, best = best_time(lambda: simulate(logged, reference, **reference_options), settings.min_timing)
             events_run = int(traj.stats["events"])
         else:
-            # The exact solver of several parts computes every event (no fast-forward, no event log):
+            # The exact solvers of several parts and of planar motion compute every event (no fast-forward):
             # the reference run is the run with every event.
             events_run, best = ref.events, ref.cpu_time
         bar.advance(note=f"{reference} with every event")
 
-    starts = [p.x0 for p in scene.parts] if scene.parts is not None else [scene.x0]
+    starts = [p.x0 for p in scene.parts] if scene.parts is not None else list(np.ravel(scene.x0))
     level_x = 4.0 * _EPS * float(np.max(np.abs(np.concatenate([starts, np.ravel(ref.x_end), np.ravel(ref.x_prev)]))))
     level_v = 2.0 * level_x / dt
     m_table = _table(moreau, ref)
@@ -317,6 +319,7 @@ def study(scene: Scene, settings: StudySettings = StudySettings(), *, progress: 
         "target_error": settings.target_error,
         "reference": reference_text(reference, reference_options),
         "parts": 1 if scene.parts is None else len(scene.parts),
+        "planar": scene.planar,
         "x_ref_end": ref.x_end,
         "vbar_ref": ref.vbar,
         "rounding_level_position": level_x,
