@@ -15,6 +15,7 @@ from ..model import registry
 #: Every module that defines formulas (marked with :func:`selfalign.model.registry.formula`).
 FORMULA_MODULES = ("selfalign.model.arcs", "selfalign.model.friction", "selfalign.model.profiles",
                    "selfalign.model.optimal_motion", "selfalign.model.parts", "selfalign.model.planar",
+                   "selfalign.model.planar_slip",
                    "selfalign.analysis.positioning",
                    "selfalign.analysis.stick_map")
 

@@ -51,6 +51,7 @@ NEWTON_STEPS = 200
 UNDERFLOW = 800.0
 
 _EPS = 2.0 ** -52
+_LOG_LARGEST = 709.78                    # expm1 overflows beyond (the log of the largest double, 709.7827...)
 
 
 @formula(unnumbered="numerics of the closed-form slip: expm1(z) / z without cancellation (" + _PAGE + ")")
@@ -59,6 +60,8 @@ def phi1(z: float) -> float:
     accuracy that exp(z) - 1 loses for small z)."""
     if z == 0.0:
         return 1.0
+    if z > _LOG_LARGEST:
+        return math.inf
     return math.expm1(z) / z
 
 
@@ -93,12 +96,9 @@ def slip_shape(vx: float, vy: float, ax: float, ay: float, mu: float) -> int:
     """:data:`CURVED` where the table acceleration (ax, ay) turns the velocity (vx, vy) (not parallel,
     v != 0, G = |A| > 0, mu / G < :data:`MAX_K` and both invariants a, b representable), else
     :data:`COLLINEAR`: the slip then stays on the line of v (or of -A from rest), a quadratic arc."""
-    g = math.hypot(ax, ay)
-    if vx * ay - vy * ax == 0.0 or g == 0.0 or not mu < MAX_K * g:
+    if vx * ay - vy * ax == 0.0 or not mu < MAX_K * math.hypot(ax, ay):
         return COLLINEAR
-    p = -(vx * ax + vy * ay) / g
-    q = abs(vx * ay - vy * ax) / g
-    a, b, _ = slip_invariants(p, q)
+    _, _, _, _, _, a, b, _ = slip_frame(vx, vy, ax, ay)
     if a > 0.0 and b > 0.0 and math.isfinite(a):
         return CURVED
     return COLLINEAR

@@ -15,12 +15,91 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..model.planar import PlanarProfile
 from .engine import codes as C
 from .jit import call, kernel
 from .outcomes import STALL_EVENTS, Reason
+from .planar import PLANAR_EVENT_DTYPE, PLANAR_SAMPLE_DTYPE, PlanarResult, sample_times
 
 #: Default event budget (the ``max_events`` option of the exact method).
 MAX_EVENTS = 10_000_000
+
+
+def run(scene, options: dict) -> PlanarResult:
+    """Simulate the planar ``scene`` exactly, in closed form between events, with the resolved ``options``
+    (``max_events``; module docstring).
+
+    Parameters
+    ----------
+    scene : Scene
+        A planar scene (``scene.planar``) with a piecewise-constant :class:`~selfalign.PlanarProfile` on a
+        uniform surface, under Coulomb or static/kinetic friction.
+    options : dict
+        The exact method's options, checked and filled (``selfalign.solvers.methods``): ``max_events``.
+
+    Returns
+    -------
+    PlanarResult
+        The end time and state, the reason, the event counts, the samples and the event log the scene's record
+        asks for (``steps`` is 0: there are no time steps).
+
+    Raises
+    ------
+    ValueError
+        If the scene is not planar, its profile is not piecewise constant, its surface has strips or its friction
+        law is Stribeck's (the dispatch, :func:`selfalign.solvers.planar.run_planar`, sends those elsewhere).
+
+    Examples
+    --------
+    The three-phase profile of Fig. 18 along the first axis, from rest: the part walks along it, y stays 0.
+
+    >>> import selfalign as sa
+    >>> from selfalign.solvers import planar_exact
+    >>> profile = sa.ThreePhaseProfile(dt=1.05, dy=0.084, y2=2.2, y3=0.9)
+    >>> scene = sa.Scene(sa.PlanarProfile(x=profile), x0=(0.0, 0.0), periods=3)
+    >>> result = planar_exact.run(scene, {"max_events": 1000})
+    >>> result.reason.name, result.x_end.round(6).tolist(), result.sticks, result.breaks
+    ('PERIODS', [0.196235, 0.0], 3, 8)
+    """
+    _check(scene)
+    profile = scene.profile
+    starts, accels = profile.pieces()
+    ratio = scene.friction.ratio if scene.friction.kind == "static_kinetic" else 1.0
+    record = scene.record
+    raw = run_pieces(starts, accels, profile.dt, tau0=scene.phase * profile.dt, x0=scene.x0, v0=scene.v0,
+                     ratio=ratio, periods=scene.horizon_periods, until_rest=scene.until == "rest",
+                     max_events=int(options["max_events"]),
+                     samples_per_period=record.samples_per_period if record.dense else 0, log=record.events)
+    samples = log = None
+    if raw["samples"] is not None:
+        rows = raw["samples"]
+        samples = np.zeros(len(rows), dtype=PLANAR_SAMPLE_DTYPE)
+        samples["t"] = sample_times(scene)[:len(rows)]
+        samples["x"], samples["v"], samples["mode"] = rows[:, 0:2], rows[:, 2:4], rows[:, 4]
+    if raw["log"] is not None:
+        rows = raw["log"]
+        log = np.zeros(len(rows), dtype=PLANAR_EVENT_DTYPE)
+        log["t"] = rows[:, 0] * profile.dt + rows[:, 1]
+        log["kind"], log["x"], log["v"] = rows[:, 2], rows[:, 3:5], rows[:, 5:7]
+    return PlanarResult(t_end=raw["period_end"] * profile.dt + raw["tau_end"], x_end=raw["x_end"],
+                        v_end=raw["v_end"], reason=raw["reason"], message=raw["message"], sticks=raw["sticks"],
+                        slips=raw["slips"], breaks=raw["breaks"], samples=samples, log=log)
+
+
+def _check(scene) -> None:
+    """ValueError unless this solver takes ``scene`` (:func:`run`)."""
+    if not getattr(scene, "planar", False) or not isinstance(scene.profile, PlanarProfile):
+        raise ValueError("scene must be a planar scene (a PlanarProfile): the exact planar solver simulates planar "
+                         "motion only")
+    if not scene.profile.piecewise_constant:
+        raise ValueError("scene.profile must be piecewise constant in both components for the closed-form planar "
+                         "solver; the general exact planar solver takes the others")
+    if scene.strips:
+        raise ValueError(f"scene.surface must be uniform for the closed-form planar solver, got {len(scene.strips)} "
+                         "strip(s); the general exact planar solver takes strips")
+    if scene.friction.kind not in ("coulomb", "static_kinetic"):
+        raise ValueError(f"scene.friction.kind must be coulomb or static_kinetic for planar motion, got "
+                         f"{scene.friction.kind!r}")
 
 
 def stepper_arrays(starts, accels, dt: float, tau0: float, x0, v0, ratio: float) -> tuple:
@@ -76,7 +155,7 @@ def _shifted(rows: np.ndarray, x0: np.ndarray, column: int = 0) -> np.ndarray:
 
 
 def _message(reason: Reason, max_events: int, counters, state, dt: float) -> str:
-    t = counters[C.PC_N_END] * dt + state[C.PL_TAU_END]
+    t = float(counters[C.PC_N_END] * dt + state[C.PL_TAU_END])
     if reason is Reason.MAX_EVENTS:
         return f"max_events = {max_events} reached at t = {t!r}; raise max_events"
     if reason is Reason.STALL:
@@ -85,6 +164,6 @@ def _message(reason: Reason, max_events: int, counters, state, dt: float) -> str
         return (f"non-finite state in the period from t = {t!r} (the arithmetic overflows at these scales); the "
                 f"state at its start is kept")
     if reason is Reason.REST:
-        return (f"at rest for good: stuck where r mu_bar = {state[C.PL_RATIO] * state[C.PL_MU]!r} >= max|Y''| = "
-                f"{state[C.PL_REST]!r}")
+        return (f"at rest for good: stuck where r mu_bar = {float(state[C.PL_RATIO] * state[C.PL_MU])!r} >= "
+                f"max|Y''| = {float(state[C.PL_REST])!r}")
     return ""

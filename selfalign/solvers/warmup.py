@@ -78,6 +78,8 @@ WARMUPS: dict[str, tuple[str, Callable[[], object]]] = {
                                       method="moreau", steps_per_period=20)),
     "planar_moreau": ("Moreau time-stepping in the plane",
                       lambda: simulate(_planar(), method="moreau", steps_per_period=20)),
+    "planar_exact": ("the exact planar solver, piecewise-constant motions on a uniform surface",
+                     lambda: simulate(_planar().replace(surface=Uniform()), method="exact")),
 }
 
 
