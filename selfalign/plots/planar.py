@@ -69,8 +69,8 @@ def drift_map_panel(ax, drift: dict, *, title: str):
     with np.errstate(invalid="ignore", divide="ignore"):
         unit = np.where(speed[..., None] > 0, v / speed[..., None], 0.0)
     p, a = np.meshgrid(offset, amplitude, indexing="ij")
-    ax.quiver(p, a, unit[..., 0], unit[..., 1], color="w", pivot="middle", scale=1.0 / 0.6,
-              scale_units="inches", width=0.006)
+    ax.quiver(p, a, unit[..., 0], unit[..., 1], color="w", pivot="middle", scale=1.0 / 0.28,
+              scale_units="inches", width=0.008)
     ax.set_xlabel("phase offset of the y motion [periods]")
     ax.set_ylabel("amplitude ratio y / x")
     ax.set_title(title, fontsize="medium")
@@ -112,7 +112,7 @@ def limit_panel(ax, limits: dict):
         ax.loglog(a, e[-1] * a[-1] / a, ":", color=f"C{i}", linewidth=0.8)
     ax.set_xlabel(r"$\max|Y''|$")
     ax.set_ylabel(r"$|\bar v - c| \,/\, \max|Y'|$")
-    ax.set_title("error of the limit c = median of Y'; dotted: slope -1", fontsize="medium")
+    ax.set_title("error of the limit c (dotted: slope -1)", fontsize="medium")
     ax.legend(fontsize="x-small")
     return ax.figure
 
