@@ -112,9 +112,15 @@ def test_harmonic_orbit_half_a_period_later_is_mirrored():
 
 def test_median_of_velocities_limits():
     """Hypothesis (docs page, "High acceleration"): the limit is the geometric median of Y'(t): zero for a circle
-    (to 1e-12 of its speed 0.63); for a motion along x the median of x'(t), which is the dwell velocity y'_ini
-    when the dwell lasts more than half the period (t1 = 0.53 of dt = 1; to 1e-9)."""
+    (to 1e-12 of its speed 0.63); for a motion along a line the median of y'(t) along it (the Fig. 18 profile at
+    0.7 rad: the median of a million samples, to 1e-5, the change of y' over a sample of the 8192), which is the
+    dwell velocity y'_ini when the dwell lasts more than half the period (t1 = 0.53 of dt = 1; to 1e-9)."""
     assert np.hypot(*high_acceleration_drift(harmonic_orbit(1.0, 0.1, 0.1))) <= 1e-12
+    fig18 = sa.ThreePhaseProfile(*FIG18)
+    t = (np.arange(10**6) + 0.5) * fig18.dt / 10**6
+    along = high_acceleration_drift(PlanarProfile(x=fig18, angle=0.7))
+    np.testing.assert_allclose(along, np.median(fig18.velocity(t)) * np.array([math.cos(0.7), math.sin(0.7)]),
+                               rtol=0, atol=1e-5)
     dwell = sa.ThreePhaseProfile(1.0, 0.064, 3.0, 1.5)
     assert dwell.t1 > 0.5
     np.testing.assert_allclose(high_acceleration_drift(PlanarProfile(x=dwell)), [dwell.yd_ini, 0.0], rtol=0, atol=1e-9)

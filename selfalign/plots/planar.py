@@ -56,7 +56,7 @@ def drift_map_panel(ax, drift: dict, *, title: str):
     >>> group = {"datasets": {"offset": np.array([0.0, 0.5]), "amplitude": np.array([0.0, 1.0]), "v_bar": v}}
     >>> ax = Figure().subplots()
     >>> fig = drift_map_panel(ax, group, title="demo")
-    >>> ax.collections[0].get_array().round(6).tolist()
+    >>> ax.collections[0].get_array().ravel().round(6).tolist()
     [0.1, 0.141421, 0.2, 0.1]
     """
     d = drift["datasets"]
@@ -144,7 +144,7 @@ def strip_cloud_panel(ax, line: dict):
     ...                       "stick_depth": 0.04}, "attrs": {"w": 0.05}}
     >>> ax = Figure().subplots()
     >>> fig = strip_cloud_panel(ax, group)
-    >>> ax.lines[0].get_ydata().tolist()
+    >>> ax.lines[0].get_ydata().round(12).tolist()
     [0.8, 0.8]
     """
     d, w = line["datasets"], float(line["attrs"]["w"])
