@@ -257,8 +257,9 @@ def study(scene: Scene, settings: StudySettings = StudySettings(), *, progress: 
     columns (a scene with several parts has none, and the attribute ``ivp_not_run`` instead of
     ``ivp_max_err_over_rtol``; its ``x_end``, ``vbar`` have one column per part, ``x_ref_end``,
     ``vbar_ref`` one entry per part, and the attribute ``parts`` counts them, 1 for the paper's
-    scene; a planar scene's have two columns, the coordinates, and the attribute ``planar`` is True); group ``exact`` with attributes ``x_end``, ``vbar``, ``steps``, ``events``,
-    ``status``, ``fast_forward_periods``, ``events_run_events`` and datasets ``cpu_time``,
+    scene; a planar scene's have two columns, the coordinates, and the attribute ``planar`` is True);
+    group ``exact`` with attributes ``x_end``, ``vbar``, ``steps``, ``events``, ``status``,
+    ``fast_forward_periods``, ``events_run_events`` and datasets ``cpu_time``,
     ``events_run_cpu_time``.  Every CPU time and what is computed from one is a dataset
     marked as a measurement (:mod:`selfalign.io.quantities`), never an attribute, so that two
     studies of one scene are byte-identical apart from those datasets.  ``progress`` reports

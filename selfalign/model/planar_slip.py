@@ -44,6 +44,9 @@ COLLINEAR, CURVED = 0, 1
 #: A curved slip needs k = mu / G below this (beyond it A turns v by less than 2^-1000 of a radian before it
 #: stops, far below rounding, and the exponents of the closed form would overflow): otherwise it is collinear.
 MAX_K = 2.0 ** 1000
+#: A velocity within this many ulp of the line of A (transverse speed |q| <= 2 COLLINEAR_ULPS eps |v|) slips on
+#: that line (:func:`slip_shape`): the rounding of a velocity along a turned line is a few ulp.
+COLLINEAR_ULPS = 16.0
 #: Safeguarded Newton iterations of :func:`slip_parameter` at most (it converges in fewer than 10 in practice).
 NEWTON_STEPS = 200
 #: A parameter y beyond which every exponential of a stopping slip underflows (e^{-745} = 0 in doubles), over
@@ -93,40 +96,71 @@ def slip_invariants(p: float, q: float):
 
 @formula(unnumbered="which closed form a slip takes: a case distinction (" + _PAGE + ")")
 def slip_shape(vx: float, vy: float, ax: float, ay: float, mu: float) -> int:
-    """:data:`CURVED` where the table acceleration (ax, ay) turns the velocity (vx, vy) (not parallel,
-    v != 0, G = |A| > 0, mu / G < :data:`MAX_K` and both invariants a, b representable), else
-    :data:`COLLINEAR`: the slip then stays on the line of v (or of -A from rest), a quadratic arc."""
+    """:data:`CURVED` where the table acceleration (ax, ay) turns the velocity (vx, vy), else :data:`COLLINEAR`:
+    the slip then stays on the line of v, a quadratic arc.
+
+    Collinear are: v x A = 0 in floating point, A = 0, mu / G >= :data:`MAX_K`, an invariant a or b that
+    underflows, and a velocity within :data:`COLLINEAR_ULPS` ulp of the line of A (|q| / |v| below
+    2 COLLINEAR_ULPS eps): the transverse velocity left out is the rounding of v, so that a table motion along
+    a line at any angle is the 1-D model on that line (its stops, sticks and reversals included)."""
     if vx * ay - vy * ax == 0.0 or not mu < MAX_K * math.hypot(ax, ay):
         return COLLINEAR
-    _, _, _, _, _, a, b, _ = slip_frame(vx, vy, ax, ay)
-    if a > 0.0 and b > 0.0 and math.isfinite(a):
+    _, _, _, _, _, a, b, h = slip_frame(vx, vy, ax, ay)
+    if a > 0.0 and b > 0.0 and math.isfinite(a) and h > COLLINEAR_ULPS * _EPS * (a + b):
         return CURVED
     return COLLINEAR
+
+
+@formula(unnumbered="a power of u in the closed-form slip, scaled without overflow (" + _PAGE + ")")
+def decayed(w: float, c: float, y: float) -> float:
+    """w e^{-c y} for w > 0 (0 at y = inf for c > 0); where the product under- or overflows although the result
+    does not (a tiny w and a large growth), it is taken as exp(ln w - c y)."""
+    if y == math.inf:
+        return 0.0 if c > 0.0 else math.inf
+    out = w * math.exp(-c * y)
+    if (out == 0.0 or not out < math.inf) and w > 0.0:
+        return math.exp(math.log(w) - c * y)
+    return out
+
+
+@formula(unnumbered="the integrals of the closed-form slip, from the weights at both ends (" + _PAGE + ")")
+def weighted_integral(w0: float, w1: float, c: float, y: float) -> float:
+    """w0 E_c(y), the integral of w0 e^{-c x} over [0, y], given w1 = w0 e^{-c y}: (w0 - w1) / c once
+    |c y| > 1 (e^{-c y} is then far from 1, nothing cancels, and no factor overflows before the result does),
+    else w0 y phi1(-c y) (:func:`exponent_integral`)."""
+    if abs(c * y) > 1.0:
+        return (w0 - w1) / c
+    return w0 * exponent_integral(c, y)
 
 
 @formula(unnumbered="the time, speed and velocity of a curved slip at its parameter y (" + _PAGE + ")")
 def slip_time(g: float, mu: float, a: float, b: float, y: float) -> float:
     """Time t(y) = (a E_{k-1}(y) + b E_{k+1}(y)) / G a curved slip takes to reach the parameter y."""
-    return (a * exponent_integral((mu - g) / g, y) + b * exponent_integral((mu + g) / g, y)) / g
+    em, ep = (mu - g) / g, (mu + g) / g
+    return (weighted_integral(a, decayed(a, em, y), em, y) + weighted_integral(b, decayed(b, ep, y), ep, y)) / g
 
 
 @formula(unnumbered="the speed of a curved slip at its parameter y, dt / dy times G (" + _PAGE + ")")
 def slip_speed(g: float, mu: float, a: float, b: float, y: float) -> float:
     """Speed s(y) = a e^{-(k-1) y} + b e^{-(k+1) y} of a curved slip (and G dt / dy)."""
-    return a * math.exp(-((mu - g) / g) * y) + b * math.exp(-((mu + g) / g) * y)
+    return decayed(a, (mu - g) / g, y) + decayed(b, (mu + g) / g, y)
 
 
 @formula(unnumbered="the closed-form curved slip (" + _PAGE + ")")
 def slip_state(g: float, mu: float, a: float, b: float, h: float, y: float):
     """(P, Q, p, q): displacement along g and n and velocity along g and n of a curved slip at the
-    parameter y (module docstring); at y = inf (mu > G only) the stop: P, Q of the whole slip, p = q = 0."""
-    em, ep = (mu - g) / g, (mu + g) / g
-    disp_g = (a * a * exponent_integral(2.0 * em, y) - b * b * exponent_integral(2.0 * ep, y)) / g
-    disp_n = 2.0 * h * (a * exponent_integral((2.0 * mu - g) / g, y) + b * exponent_integral((2.0 * mu + g) / g, y)) / g
-    if y == math.inf:
-        return disp_g, disp_n, 0.0, 0.0
-    fall_a, fall_b = a * math.exp(-em * y), b * math.exp(-ep * y)
-    return disp_g, disp_n, fall_a - fall_b, 2.0 * h * math.exp(-(mu / g) * y)
+    parameter y (module docstring); at y = inf (mu > G only) the stop: P, Q of the whole slip, p = q = 0.
+
+    Every term is an integral of a product of the decaying weights a e^{-(k-1) x}, b e^{-(k+1) x} and
+    h e^{-k x} (:func:`weighted_integral` from its values at both ends), so that a tiny start speed followed
+    by a long acceleration neither under- nor overflows on the way."""
+    em, ep, kk = (mu - g) / g, (mu + g) / g, mu / g
+    fall_a, fall_b, fall_h = decayed(a, em, y), decayed(b, ep, y), decayed(h, kk, y)
+    disp_g = (weighted_integral(a * a, fall_a * fall_a, 2.0 * em, y)
+              - weighted_integral(b * b, fall_b * fall_b, 2.0 * ep, y)) / g
+    disp_n = 2.0 * (weighted_integral(h * a, fall_h * fall_a, (2.0 * mu - g) / g, y)
+                    + weighted_integral(h * b, fall_h * fall_b, (2.0 * mu + g) / g, y)) / g
+    return disp_g, disp_n, fall_a - fall_b, 2.0 * fall_h
 
 
 @formula(unnumbered="the stop time of a curved slip, its time at y = inf (" + _PAGE + ")")

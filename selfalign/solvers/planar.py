@@ -22,8 +22,9 @@ from .outcomes import Reason
 #: Dense output of a planar run: the time, the position and velocity (relative to the table) and the mode
 #: (0 stick, 1 slip), at the times tau0 + k dt / samples_per_period.
 PLANAR_SAMPLE_DTYPE = np.dtype([("t", "f8"), ("x", "f8", (2,)), ("v", "f8", (2,)), ("mode", "i1")])
-#: The event log of a planar run: time, kind (``selfalign.solvers.outcomes.EventKind``: STICK, SLIP, ZONE for a
-#: strip boundary crossed, SWITCH for a profile switch passed) and the state at the event.
+#: The event log of a planar run: time, kind (``selfalign.solvers.outcomes.EventKind``: STICK, SLIP, REVERSAL for a
+#: straight slip through zero speed that slips on, ZONE for a strip boundary crossed, SWITCH for a profile switch
+#: passed) and the state at the event.
 PLANAR_EVENT_DTYPE = np.dtype([("t", "f8"), ("kind", "i1"), ("x", "f8", (2,)), ("v", "f8", (2,))])
 #: Event counts of a planar run, in :attr:`PlanarResult` and a trajectory's ``info``.
 PLANAR_EVENTS = ("sticks", "slips", "crossings", "breaks")

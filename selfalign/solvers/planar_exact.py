@@ -102,7 +102,7 @@ def _check(scene) -> None:
                          f"{scene.friction.kind!r}")
 
 
-def stepper_arrays(starts, accels, dt: float, tau0: float, x0, v0, ratio: float) -> tuple:
+def _stepper_arrays(starts, accels, dt: float, tau0: float, x0, v0, ratio: float) -> tuple:
     """(f, c, starts, accels): the stepper's float state and counters (:mod:`selfalign.solvers.engine.codes`,
     ``PL_*`` and ``PC_*``) for a start at ``x0``, ``v0`` (positions relative to x0) at phase ``tau0``, and the
     pieces as contiguous float arrays."""
@@ -118,13 +118,61 @@ def stepper_arrays(starts, accels, dt: float, tau0: float, x0, v0, ratio: float)
 def run_pieces(starts, accels, dt: float, *, tau0: float = 0.0, x0=(0.0, 0.0), v0=(0.0, 0.0), ratio: float = 1.0,
                periods: int, until_rest: bool = False, max_events: int = MAX_EVENTS, samples_per_period: int = 0,
                log: bool = False) -> dict:
-    """Run the compiled stepper on the pieces of one period (``starts`` (m,) from 0, ``accels`` (m, 2)) and
-    return its raw outcome: ``reason``, ``period_end``, ``tau_end``, ``x_end``, ``v_end`` (arrays (2,)),
-    ``mode``, the counts (``sticks``, ``slips``, ``reversals``, ``breaks``, ``arcs``, ``events``), ``samples``
-    (array (K, 5): x, y, vx, vy, mode at tau0 + k dt / samples_per_period; None without samples) and ``log``
-    (array (E, 7): period, phase, kind, x, y, vx, vy; None without the log)."""
+    """Run the compiled stepper on the pieces of one period and return its raw outcome (what :func:`run` turns
+    into a :class:`~selfalign.solvers.planar.PlanarResult`; benchmarks call it directly).
+
+    Parameters
+    ----------
+    starts : array_like
+        Start times of the pieces of one period, shape (m,), from 0 and increasing (the last piece ends at dt).
+    accels : array_like
+        The constant table acceleration Y'' of each piece, shape (m, 2).
+    dt : float
+        The period.
+    tau0 : float, optional
+        The start phase, in [0, dt).  Default 0.
+    x0, v0 : pair of float, optional
+        The start position and velocity relative to the table.  Default (0, 0).
+    ratio : float, optional
+        r = mu_s / mu_k of static/kinetic friction (1: Coulomb).  Default 1.
+    periods : int
+        The horizon in periods.  Keyword only, required.
+    until_rest : bool, optional
+        End at a stick that holds for good (REST) instead of running on.  Default False.
+    max_events : int, optional
+        The event budget.
+    samples_per_period : int, optional
+        Samples per period (0: none).  Default 0.
+    log : bool, optional
+        Keep the event log.  Default False.
+
+    Returns
+    -------
+    dict
+        ``reason`` (:class:`~selfalign.solvers.outcomes.Reason`), ``period_end``, ``tau_end`` (the end time is
+        period_end dt + tau_end), ``x_end``, ``v_end`` (arrays (2,)), ``mode`` (0 stick, 1 slip), the counts
+        ``sticks``, ``slips``, ``reversals``, ``breaks``, ``arcs`` (closed-form arcs) and ``events`` (all of
+        them, as the budget counts), ``samples`` (array (K, 5): x, y, vx, vy, mode at tau0 + k dt /
+        samples_per_period, or None), ``log`` (array (E, 7): period, phase, kind, x, y, vx, vy, or None) and
+        ``message``.
+
+    Raises
+    ------
+    selfalign.KernelError
+        If the compiled stepper cannot be compiled.
+
+    Examples
+    --------
+    Y'' = (-2, 0) then (2, 0): from rest the part slips along +x accelerating at 1 for half a period, then
+    decelerates at 3, reverses at t = 2/3 (2 > mu) and slips back accelerating at 1.
+
+    >>> from selfalign.solvers.planar_exact import run_pieces
+    >>> out = run_pieces([0.0, 0.5], [[-2.0, 0.0], [2.0, 0.0]], 1.0, periods=1)
+    >>> out["reason"].name, round(float(out["x_end"][0]), 12), out["v_end"].round(12).tolist(), out["reversals"]
+    ('PERIODS', 0.111111111111, [-0.333333333333, 0.0], 1)
+    """
     x0 = np.asarray(x0, dtype=float)
-    f, c, starts, accels = stepper_arrays(starts, accels, dt, tau0, x0, v0, ratio)
+    f, c, starts, accels = _stepper_arrays(starts, accels, dt, tau0, x0, v0, ratio)
     spp = int(samples_per_period)
     samples = np.zeros((periods * spp + 1 if spp else 0, C.PLANAR_SAMPLE_COLUMNS))
     size = min(max_events, 4 * (starts.size + 1) * min(periods, 1000) + 16) if log else 0
@@ -136,13 +184,16 @@ def run_pieces(starts, accels, dt: float, *, tau0: float = 0.0, x0=(0.0, 0.0), v
         if counters[C.PC_LOG] <= size:
             break
         size = int(counters[C.PC_LOG])
+    written = int(counters[C.PC_SAMPLES])
+    if reason == C.REASON_NONFINITE:           # the samples up to the start of the period that failed
+        written = min(written, int(counters[C.PC_N_END]) * spp + 1)
     return {"reason": Reason(int(reason)), "period_end": int(counters[C.PC_N_END]),
             "tau_end": float(state[C.PL_TAU_END]), "x_end": state[[C.PL_X, C.PL_Y]] + x0,
             "v_end": state[[C.PL_VX, C.PL_VY]].copy(), "mode": int(counters[C.PC_MODE]),
             "sticks": int(counters[C.PC_STICKS]), "slips": int(counters[C.PC_SLIPS]),
             "reversals": int(counters[C.PC_REVERSALS]), "breaks": int(counters[C.PC_BREAKS]),
             "arcs": int(counters[C.PC_ARCS]), "events": int(counters[C.PC_EVENTS]),
-            "samples": _shifted(samples[:counters[C.PC_SAMPLES]], x0) if spp else None,
+            "samples": _shifted(samples[:written], x0) if spp else None,
             "log": _shifted(entries[:counters[C.PC_LOG]], x0, column=3) if log else None,
             "message": _message(Reason(int(reason)), max_events, counters, state, dt)}
 

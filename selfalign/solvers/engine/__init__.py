@@ -15,7 +15,9 @@ Layout
 * the steppers, one module each: :mod:`.piecewise` (exact, piecewise-constant profiles),
   :mod:`.smooth` (exact, Fourier and finite-jerk profiles on a uniform surface),
   :mod:`.jerk_zone` (exact, finite-jerk profiles on a stop zone), :mod:`.timestepping` (Moreau),
-  :mod:`.parts` (exact, several parts on a piecewise-constant profile: its own state and run loop);
+  :mod:`.parts` (exact, several parts on a piecewise-constant profile: its own state and run loop),
+  :mod:`.planar` (exact, planar motion under a piecewise-constant table acceleration on a uniform surface:
+  its own state and run loop too);
 * :mod:`.drive`: the driver loop and the outcome decisions;
 * :mod:`.entries`: the entry points Python calls, one per method (and one per specialisation, such
   as the piecewise stepper for members on a uniform surface), and the stepper registration;
