@@ -126,6 +126,13 @@ SAFETY, MIN_FACTOR, MAX_FACTOR = 0.9, 0.2, 10.0
 APPROACH = 0.75
 #: ... until that time is below STOP_FLOOR dt: then the stop is placed by linear extrapolation.
 STOP_FLOOR = 2.0**-40
+#: A slip from rest starts with its direction slaved to -Y''/|Y''| (:func:`_field`): the true direction lags it
+#: by about |v| |(Y''/|Y''|)'| / |Y''| radians, which relaxes at the rate |Y''| / |v|, a stiff mode an explicit
+#: method could follow only with steps below ~|v| / |Y''|.  The slip leaves the slaved form for the full equation
+#: once that lag would exceed SLAVED_LAG (a velocity error of at most SLAVED_LAG |v| there), or where |Y''| falls
+#: below mu_bar / 2 or turns away from -v (a switch: the cosine of their angle below SLAVED_ALIGNED).  While
+#: slaved, a step starts with v put back on that direction (it drifts off by the step's integration error only).
+SLAVED_LAG, SLAVED_ALIGNED = 1.0e-6, 0.5
 #: Rejected tries of one step after which the run ends with STALL (a step that shrinks without end).
 MAX_REJECTS = 200
 #: Event functions (:func:`_event_value`): a strip boundary, the equality of two strips' coefficients, |Y''|^2
@@ -172,26 +179,36 @@ def _boundary_value(strips, j, px, py):
 
 
 @jit
-def _field(rows, piece, strips, q, tau, y, u, out):
-    """The slip's right-hand side (x', v') at phase tau and state y = (x, v) into ``out``; the friction direction
-    is v/|v| where v moves along ``u`` (the step's start direction), else u: a slip from rest starts along u
-    (rounding may give its first stages' tiny velocities any sign), and a stage that moves against u belongs to
-    a step past the stop, which :func:`_rk_step` reports."""
-    ax, ay, _, _ = table_acceleration(rows, piece, q, tau)
+def _field(rows, piece, strips, q, tau, y, u, slaved, out):
+    """The slip's right-hand side (x', v') at phase tau and state y = (x, v) into ``out``.
+
+    The friction direction is v/|v| where v moves along ``u`` (the step's start direction), else u: a stage that
+    moves against u belongs to a step past the stop, which :func:`_rk_step` reports.  ``slaved``: the start of a
+    slip from rest, where the direction is taken as -Y''/|Y''| itself (the velocity v = s (-Y''/|Y''|), s = -v.Y''/
+    |Y''|, keeps that direction: v' = -Y'' + mu_bar Y''/|Y''| - s (Y''/|Y''|)'; :data:`SLAVED_LAG`)."""
+    ax, ay, jx, jy = table_acceleration(rows, piece, q, tau)
     mu = planar_coefficient(y[0], y[1], strips)
+    out[0] = y[2]
+    out[1] = y[3]
+    if slaved:
+        size = math.hypot(ax, ay)
+        ex, ey = ax / size, ay / size
+        speed = -(y[2] * ex + y[3] * ey)
+        turn = (jx * ey - jy * ex) / size              # (Y''/|Y''|)' = turn (-ey, ex)
+        out[2] = -(size - mu) * ex + speed * turn * ey       # -Y'' + mu_bar Y''/|Y''| without cancellation
+        out[3] = -(size - mu) * ey - speed * turn * ex
+        return
     rho = math.hypot(y[2], y[3])
     if rho > 0.0 and y[2] * u[0] + y[3] * u[1] > 0.0:
         dx, dy = y[2] / rho, y[3] / rho
     else:
         dx, dy = u[0], u[1]
-    out[0] = y[2]
-    out[1] = y[3]
     out[2] = -ax - mu * dx
     out[3] = -ay - mu * dy
 
 
 @jit
-def _rk_step(rows, piece, strips, q, tau, y, u, h, k, out):
+def _rk_step(rows, piece, strips, q, tau, y, u, slaved, h, k, out):
     """One DOP853 step of length h from state y at phase tau into ``out`` (``k``: the stage derivatives).  Returns
     (the error norm, whether every stage (of a step from motion; of a slip from rest, its end) kept moving along
     ``u``: a step that passes the stop is not a smooth local solution)."""
@@ -205,7 +222,7 @@ def _rk_step(rows, piece, strips, q, tau, y, u, h, k, out):
             out[i] = y[i] + h * acc
         if s > 0 and from_motion and not out[2] * u[0] + out[3] * u[1] > 0.0:
             moving = False
-        _field(rows, piece, strips, q, tau + RK_C[s] * h, out, u, k[s])
+        _field(rows, piece, strips, q, tau + RK_C[s] * h, out, u, slaved, k[s])
     for i in range(4):
         acc = 0.0
         for j in range(STAGES):
@@ -213,7 +230,7 @@ def _rk_step(rows, piece, strips, q, tau, y, u, h, k, out):
         out[i] = y[i] + h * acc
     if h > 0.0 and not out[2] * u[0] + out[3] * u[1] > 0.0:
         moving = False
-    _field(rows, piece, strips, q, tau + h, out, u, k[STAGES])
+    _field(rows, piece, strips, q, tau + h, out, u, slaved, k[STAGES])
     e5 = 0.0
     e3 = 0.0
     for i in range(4):
@@ -231,28 +248,28 @@ def _rk_step(rows, piece, strips, q, tau, y, u, h, k, out):
 
 
 @jit
-def _event_value(kind, a, b, rows, piece, strips, q, tau, y, u, s, k, out):
+def _event_value(kind, a, b, rows, piece, strips, q, tau, y, u, slaved, s, k, out):
     """Event functions: _STICK |Y''|^2 - a^2 and _PEAK Y''.Y''' at phase tau + s; _BOUNDARY (strip boundary a) and
     _KINK (mu of strip a minus mu of strip b) at the state after one DOP853 step of length s from (tau, y)."""
     if kind == _STICK or kind == _PEAK:
         ax, ay, jx, jy = table_acceleration(rows, piece, q, tau + s)
         return ax * ax + ay * ay - a * a if kind == _STICK else ax * jx + ay * jy
-    _rk_step(rows, piece, strips, q, tau, y, u, s, k, out)
+    _rk_step(rows, piece, strips, q, tau, y, u, slaved, s, k, out)
     if kind == _BOUNDARY:
         return _boundary_value(strips, int(a), out[0], out[1])
     return _strip_coefficient(strips, int(a), out[0], out[1]) - _strip_coefficient(strips, int(b), out[0], out[1])
 
 
 @jit
-def _locate(kind, a, b, rows, piece, strips, q, tau, y, u, lo, hi, k, out):
+def _locate(kind, a, b, rows, piece, strips, q, tau, y, u, slaved, lo, hi, k, out):
     """The sign change of :func:`_event_value` in [lo, hi] (g(hi) = 0 or of the other sign than g(lo)) by Brent's
     method (the steps of scipy.optimize.brentq) to 2 eps dt + 4 eps s; returns the end of the last bracket on hi's
     side, so that the event has happened there."""
     xtol = 2.0 * EPS * q[QDT]
     rtol = 4.0 * EPS
     xpre, xcur = lo, hi
-    fpre = _event_value(kind, a, b, rows, piece, strips, q, tau, y, u, xpre, k, out)
-    fcur = _event_value(kind, a, b, rows, piece, strips, q, tau, y, u, xcur, k, out)
+    fpre = _event_value(kind, a, b, rows, piece, strips, q, tau, y, u, slaved, xpre, k, out)
+    fcur = _event_value(kind, a, b, rows, piece, strips, q, tau, y, u, slaved, xcur, k, out)
     if fcur == 0.0 or fpre == 0.0 or (fpre < 0.0) == (fcur < 0.0):
         return hi
     after = fcur > 0.0
@@ -289,7 +306,7 @@ def _locate(kind, a, b, rows, piece, strips, q, tau, y, u, lo, hi, k, out):
             xcur += scur
         else:
             xcur += delta if sbis > 0.0 else -delta
-        fcur = _event_value(kind, a, b, rows, piece, strips, q, tau, y, u, xcur, k, out)
+        fcur = _event_value(kind, a, b, rows, piece, strips, q, tau, y, u, slaved, xcur, k, out)
     if fcur == 0.0 or (fcur > 0.0) == after:
         return xcur
     return xblk
@@ -300,19 +317,19 @@ def _stick_end(rows, piece, strips, q, start, end, limit, k, out):
     """The first phase in [start, end] where |Y''| exceeds ``limit`` on the merged piece ``piece``, or -1."""
     y = out[:4]
     u = out[:2]
-    if _event_value(_STICK, limit, 0.0, rows, piece, strips, q, 0.0, y, u, start, k, out) > 0.0:
+    if _event_value(_STICK, limit, 0.0, rows, piece, strips, q, 0.0, y, u, False, start, k, out) > 0.0:
         return start
     grid = q[QGRID]
     p = start
     while p < end:
         nxt = min(p + grid, end) if grid > 0.0 else end
-        if _event_value(_STICK, limit, 0.0, rows, piece, strips, q, 0.0, y, u, nxt, k, out) > 0.0:
-            return _locate(_STICK, limit, 0.0, rows, piece, strips, q, 0.0, y, u, p, nxt, k, out)
-        if grid > 0.0 and _event_value(_PEAK, 0.0, 0.0, rows, piece, strips, q, 0.0, y, u, p, k, out) > 0.0 \
-                and _event_value(_PEAK, 0.0, 0.0, rows, piece, strips, q, 0.0, y, u, nxt, k, out) < 0.0:
-            peak = _locate(_PEAK, 0.0, 0.0, rows, piece, strips, q, 0.0, y, u, p, nxt, k, out)
-            if _event_value(_STICK, limit, 0.0, rows, piece, strips, q, 0.0, y, u, peak, k, out) > 0.0:
-                return _locate(_STICK, limit, 0.0, rows, piece, strips, q, 0.0, y, u, p, peak, k, out)
+        if _event_value(_STICK, limit, 0.0, rows, piece, strips, q, 0.0, y, u, False, nxt, k, out) > 0.0:
+            return _locate(_STICK, limit, 0.0, rows, piece, strips, q, 0.0, y, u, False, p, nxt, k, out)
+        if grid > 0.0 and _event_value(_PEAK, 0.0, 0.0, rows, piece, strips, q, 0.0, y, u, False, p, k, out) > 0.0 \
+                and _event_value(_PEAK, 0.0, 0.0, rows, piece, strips, q, 0.0, y, u, False, nxt, k, out) < 0.0:
+            peak = _locate(_PEAK, 0.0, 0.0, rows, piece, strips, q, 0.0, y, u, False, p, nxt, k, out)
+            if _event_value(_STICK, limit, 0.0, rows, piece, strips, q, 0.0, y, u, False, peak, k, out) > 0.0:
+                return _locate(_STICK, limit, 0.0, rows, piece, strips, q, 0.0, y, u, False, p, peak, k, out)
         p = nxt
     return -1.0
 
@@ -356,16 +373,24 @@ def _record(buffer, c, counter, a0, a1, a2, a3, a4, a5):
 
 
 @jit
-def _slip_step(rows, piece, strips, q, tau, end, y, u, h, y1, tmp, k, sides):
+def _slip_step(rows, piece, strips, q, tau, end, y, u, slaved, h, y1, tmp, k, sides):
     """One accepted slip step from (tau, y) of at most ``end`` - tau, its end state into ``y1``.  Returns (what ended
     it: _PLAIN, _STOPPED, _CROSSED or _FAILED, its length, the boundary crossed (j of :func:`_boundary_value`), the
-    next step size)."""
+    next step size, whether the slip from rest is still ``slaved`` (:data:`SLAVED_LAG`))."""
     dt = q[QDT]
     rho = math.hypot(y[2], y[3])
     if rho > 0.0:
         u[0], u[1] = y[2] / rho, y[3] / rho
-    ax, ay, _, _ = table_acceleration(rows, piece, q, tau)
-    rate = planar_coefficient(y[0], y[1], strips) + ax * u[0] + ay * u[1]
+    ax, ay, jx, jy = table_acceleration(rows, piece, q, tau)
+    mu = planar_coefficient(y[0], y[1], strips)
+    size = math.hypot(ax, ay)
+    if slaved and (rho * abs(jx * ay - jy * ax) > SLAVED_LAG * size ** 3 or not size > 0.5 * mu
+                   or not -(y[2] * ax + y[3] * ay) >= SLAVED_ALIGNED * rho * size):
+        slaved = False
+    elif slaved and rho > 0.0:              # on the slaved direction (it drifts off by the integration error only)
+        y[2], y[3] = -rho * ax / size, -rho * ay / size
+        u[0], u[1] = -ax / size, -ay / size
+    rate = mu + ax * u[0] + ay * u[1]
     h = min(h, end - tau)
     if rho > 0.0 and rate > 0.0:
         left = rho / rate
@@ -374,16 +399,16 @@ def _slip_step(rows, piece, strips, q, tau, end, y, u, h, y1, tmp, k, sides):
             y1[1] = y[1] + 0.5 * y[3] * left
             y1[2] = 0.0
             y1[3] = 0.0
-            return _STOPPED, left, -1, h
+            return _STOPPED, left, -1, h, slaved
         h = min(h, APPROACH * left)
     rejects = 0
     while True:
-        err, moving = _rk_step(rows, piece, strips, q, tau, y, u, h, k, y1)
+        err, moving = _rk_step(rows, piece, strips, q, tau, y, u, slaved, h, k, y1)
         if moving and err <= 1.0:
             break
         rejects += 1
         if rejects > MAX_REJECTS or not h > 0.0:
-            return _FAILED, 0.0, -1, h
+            return _FAILED, 0.0, -1, h, slaved
         h *= 0.25 if not moving or not err < math.inf else max(MIN_FACTOR, SAFETY * err ** -0.125)
     grow = MAX_FACTOR if err == 0.0 else min(MAX_FACTOR, SAFETY * err ** -0.125)
     h_next = h * grow if rejects == 0 else h
@@ -406,15 +431,16 @@ def _slip_step(rows, piece, strips, q, tau, end, y, u, h, y1, tmp, k, sides):
             lo = h
             for _ in range(60):
                 lo *= 0.5
-                if side * _event_value(_BOUNDARY, j, 0.0, rows, piece, strips, q, tau, y, u, lo, k, tmp) > 0.0:
+                if side * _event_value(_BOUNDARY, j, 0.0, rows, piece, strips, q, tau, y, u, slaved, lo, k,
+                                       tmp) > 0.0:
                     break
-            if not side * _event_value(_BOUNDARY, j, 0.0, rows, piece, strips, q, tau, y, u, lo, k, tmp) > 0.0:
+            if not side * _event_value(_BOUNDARY, j, 0.0, rows, piece, strips, q, tau, y, u, slaved, lo, k, tmp) > 0:
                 continue
-        s = _locate(_BOUNDARY, j, 0.0, rows, piece, strips, q, tau, y, u, lo, h, k, tmp)
+        s = _locate(_BOUNDARY, j, 0.0, rows, piece, strips, q, tau, y, u, slaved, lo, h, k, tmp)
         if s < length or crossed < 0:
             length, crossed = s, j
     if crossed >= 0:
-        _rk_step(rows, piece, strips, q, tau, y, u, length, k, y1)
+        _rk_step(rows, piece, strips, q, tau, y, u, slaved, length, k, y1)
     # The largest of two strips' coefficients changes: a kink of mu_bar (no event of the log).
     if strips.shape[0] > 1:
         first = _largest_strip(strips, y[0], y[1], y[2] if rho > 0.0 else u[0], y[3] if rho > 0.0 else u[1])
@@ -422,14 +448,14 @@ def _slip_step(rows, piece, strips, q, tau, end, y, u, h, y1, tmp, k, sides):
         if first >= 0 and last >= 0 and first != last \
                 and _strip_coefficient(strips, first, y[0], y[1]) > _strip_coefficient(strips, last, y[0], y[1]) \
                 and _strip_coefficient(strips, first, y1[0], y1[1]) < _strip_coefficient(strips, last, y1[0], y1[1]):
-            length = _locate(_KINK, first, last, rows, piece, strips, q, tau, y, u, 0.0, length, k, tmp)
+            length = _locate(_KINK, first, last, rows, piece, strips, q, tau, y, u, slaved, 0.0, length, k, tmp)
             crossed = -1
-            _rk_step(rows, piece, strips, q, tau, y, u, length, k, y1)
-    return (_CROSSED if crossed >= 0 else _PLAIN), length, crossed, h_next
+            _rk_step(rows, piece, strips, q, tau, y, u, slaved, length, k, y1)
+    return (_CROSSED if crossed >= 0 else _PLAIN), length, crossed, h_next, slaved
 
 
 @jit
-def _samples_until(samples, c, q, t0, span, y, u, rows, piece, strips, tau, mode, k, tmp):
+def _samples_until(samples, c, q, t0, span, y, u, slaved, rows, piece, strips, tau, mode, k, tmp):
     """Record the samples at times in (t0, t0 + span] (the first one at t0 too, if it is still due): stuck or at
     the linear stop (``mode`` 0, 2: x + v s (1 - s / (2 span)), v (1 - s / span)) or on the slip's local solution
     (``mode`` 1: one DOP853 step of length s from (tau, y))."""
@@ -440,7 +466,7 @@ def _samples_until(samples, c, q, t0, span, y, u, rows, piece, strips, tau, mode
             return
         s = max(s, 0.0)
         if mode == 1:
-            _rk_step(rows, piece, strips, q, tau, y, u, s, k, tmp)
+            _rk_step(rows, piece, strips, q, tau, y, u, slaved, s, k, tmp)
             _record(samples, c, ISAMPLES, t, tmp[0], tmp[1], tmp[2], tmp[3], 1.0)
         elif mode == 2:
             f = 1.0 - s / span if span > 0.0 else 0.0
@@ -501,12 +527,13 @@ def run_planar_smooth(rows, pieces, strips, q, f, c, samples, log):
     p = c[IPIECE]
     mode = c[IMODE]
     h = f[GH]
+    slaved = False
     last_event = -1.0
     stalled = 0
     reason = -1
     if record_samples:
-        _samples_until(samples, c, q, n * dt + tau, 0.0, y, u, rows, pieces[p], strips, tau, 0 if mode == 0 else 1,
-                       k, tmp)
+        _samples_until(samples, c, q, n * dt + tau, 0.0, y, u, slaved, rows, pieces[p], strips, tau,
+                       0 if mode == 0 else 1, k, tmp)
     if mode == 0:
         held = _held(q, f, c, strips, y[0], y[1], planar_coefficient(y[0], y[1], strips))
         if held == REASON_REST and c[IUNTIL_REST] != 0:
@@ -526,18 +553,19 @@ def run_planar_smooth(rows, pieces, strips, q, f, c, samples, log):
             root = _stick_end(rows, piece, strips, q, tau, end, q[QRATIO] * mu, k, tmp)
             span = (root if root >= 0.0 else end) - tau
             if record_samples:
-                _samples_until(samples, c, q, t0, span, y, u, rows, piece, strips, tau, 0, k, tmp)
+                _samples_until(samples, c, q, t0, span, y, u, slaved, rows, piece, strips, tau, 0, k, tmp)
             tau = root if root >= 0.0 else end
             if root >= 0.0:
                 ax, ay, _, _ = table_acceleration(rows, piece, q, tau)
                 size = math.hypot(ax, ay)
                 u[0], u[1] = -ax / size, -ay / size
                 mode = 1
+                slaved = True
                 event = EV_SLIP
                 c[ISLIPS] += 1
         else:
-            outcome, length, crossed, h_next = _slip_step(rows, piece, strips, q, tau, end, y, u, h, y1, tmp, k,
-                                                          sides)
+            outcome, length, crossed, h_next, slaved = _slip_step(rows, piece, strips, q, tau, end, y, u, slaved, h,
+                                                                  y1, tmp, k, sides)
             if outcome == _FAILED:
                 reason = REASON_STALL
                 break
@@ -545,11 +573,17 @@ def run_planar_smooth(rows, pieces, strips, q, f, c, samples, log):
                 reason = REASON_NONFINITE
                 break
             if record_samples:
-                _samples_until(samples, c, q, t0, length, y, u, rows, piece, strips, tau,
+                _samples_until(samples, c, q, t0, length, y, u, slaved, rows, piece, strips, tau,
                                2 if outcome == _STOPPED else 1, k, tmp)
             h = h_next
             c[ISTEPS] += 1
+            before = tau
             tau = end if length == end - tau else tau + length
+            if tau == before and outcome == _PLAIN:       # a step that does not advance: a stalled loop
+                stalled += 1
+                if stalled > STALL_EVENTS:
+                    reason = REASON_STALL
+                    break
             y[0], y[1], y[2], y[3] = y1[0], y1[1], y1[2], y1[3]
             if outcome == _CROSSED:
                 event = EV_ZONE
@@ -565,6 +599,7 @@ def run_planar_smooth(rows, pieces, strips, q, f, c, samples, log):
                 else:                           # passes through zero speed: slips on along -Y''
                     size = math.hypot(ax, ay)
                     u[0], u[1] = -ax / size, -ay / size
+                    slaved = True
                     event = EV_SLIP
                     c[ISLIPS] += 1
         if event >= 0:
