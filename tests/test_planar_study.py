@@ -44,11 +44,7 @@ W, C_MU = 0.05, 2.5
 STEADY = 1e-8
 
 #: A shrunk stage (the workflow's config is larger): every group, a few runs each.
-#: Moreau's options for the runs on strips and with Fourier components (the exact method's general stepper is not
-#: used here): h = dt / 1000.
-MOREAU = {"method": "moreau", "solver_options": {"steps_per_period": 1000}}
-
-SMALL = {**MOREAU, "tol": 1e-10, "max_periods": 5000,
+SMALL = {"method": "exact", "solver_options": {}, "tol": 1e-10, "max_periods": 5000,
          "three_phase": dict(zip(("dt", "dy", "y2", "y3"), FIG18)), "offsets": 2, "ratios": [0.0, 0.5],
          "harmonic": {"dt": 1.0, "a": 0.05, "second": 0.3},
          "harmonic_ratios": [0.0, 0.5], "symmetric": {"a": 0.05, "ratios": [1.0], "angle": 0.5},
@@ -88,7 +84,7 @@ def test_orbits_with_half_period_symmetry_never_drift(a, b, angle):
     acceleration (max|Y''| = 3.9) where the part slips; |v_bar| <= STEADY."""
     profile = harmonic_orbit(1.0, a, b, angle=angle)
     assert profile.max_abs_acceleration > 3.0
-    assert np.hypot(*steady_drift(profile, **MOREAU).v_bar) <= STEADY
+    assert np.hypot(*steady_drift(profile).v_bar) <= STEADY
 
 
 @pytest.mark.parametrize("ratio", [0.5, 1.0])
@@ -104,8 +100,8 @@ def test_pair_in_phase_is_the_one_dimensional_steady_state(ratio):
 def test_harmonic_orbit_half_a_period_later_is_mirrored():
     """Hypothesis: delaying the y motion b sin(w t) by half a period more turns it into -b sin(w t), the mirror
     image y -> -y of the table motion, so v_bar is mirrored: (v_x, v_y) -> (v_x, -v_y), to STEADY."""
-    first = steady_drift(harmonic_orbit(1.0, 0.05, 0.025, offset=0.1, second=0.3), **MOREAU).v_bar
-    second = steady_drift(harmonic_orbit(1.0, 0.05, 0.025, offset=0.6, second=0.3), **MOREAU).v_bar
+    first = steady_drift(harmonic_orbit(1.0, 0.05, 0.025, offset=0.1, second=0.3)).v_bar
+    second = steady_drift(harmonic_orbit(1.0, 0.05, 0.025, offset=0.6, second=0.3)).v_bar
     assert abs(first[1]) > 1e-3
     np.testing.assert_allclose(second, [first[0], -first[1]], rtol=0, atol=STEADY)
 
@@ -146,7 +142,7 @@ def test_high_acceleration_error_falls_as_one_over_acceleration(family):
         profiles = [three_phase_pair(1.0, 0.064, 3.0, 1.5, ratio=0.5, offset=0.3, scale=s) for s in (16.0, 32.0)]
     else:
         profiles = [harmonic_orbit(1.0, 0.05 * s, 0.02 * s, offset=0.25, second=0.3) for s in (16.0, 32.0)]
-    fit = acceleration_limit(profiles, **(MOREAU if family == "harmonic" else {}))
+    fit = acceleration_limit(profiles)
     assert -1.15 <= fit.slope <= -0.85
     assert np.all((0.1 <= fit.error * fit.max_acceleration) & (fit.error * fit.max_acceleration <= 2.0))
 
@@ -166,7 +162,7 @@ def test_strip_along_the_drift_is_the_one_dimensional_zone():
     theta = math.radians(50.0)
     profile = pair(0.0, 0.0)
     result = line_alignment(profile, w=W, c_mu=C_MU, angles=[theta], distance=0.1, offsets=[0.0, 0.5],
-                            lateral=[0.03], **MOREAU)
+                            lateral=[0.03])
     normal = result.normals[0]
     for start, end in zip(result.start[0], result.x_end[0]):
         assert start[1] == pytest.approx(end[1], abs=1e-12)                # the motion stays on its line y = const
@@ -183,7 +179,7 @@ def test_oblique_strip_accumulates_along_n_but_not_along_the_strip():
     strip each entry line keeps its own position: Delta x_d along the strip is at least the entry lines' half
     spread 0.025."""
     result = line_alignment(pair(0.4, 0.5), w=W, c_mu=C_MU, angles=[math.radians(40.0)], distance=0.1,
-                            offsets=[0.0, 0.5], lateral=[0.0, 0.05], **MOREAU)
+                            offsets=[0.0, 0.5], lateral=[0.0, 0.05])
     assert result.at_limit.tolist() == [1.0] and result.dx_d_normal[0] <= AT_LIMIT_WIDTHS * W
     assert result.dx_d_along[0] >= 0.025
 
@@ -193,7 +189,7 @@ def test_corner_stops_each_part_at_the_first_strip():
     at x_stick_min of the first strip it reaches, wherever along it: entries from either side of the drift line
     end on different strips, far apart from the corner point (more than 2 w)."""
     corner = corner_alignment(pair(0.0, 0.0), w=W, c_mu=C_MU, half_angle=math.radians(45.0), distance=0.1,
-                              offsets=[0.0], lateral=[-0.1, 0.1], **MOREAU)
+                              offsets=[0.0], lateral=[-0.1, 0.1])
     assert sorted(corner.first.tolist()) == [0, 1] and corner.entries.stopped.all()
     depths = corner.entries.x_end @ np.array([s.normal for s in corner.strips]).T
     np.testing.assert_allclose(depths[np.arange(2), corner.first], 0.04, rtol=0, atol=AT_LIMIT_WIDTHS * W)
@@ -227,7 +223,7 @@ def test_entry_starts_span_one_period_of_advance():
     (lambda: line_alignment(pair(0.0, 0.0), w=W, c_mu=C_MU, angles=[1.6], distance=0.1, offsets=[0.0],
                             lateral=[0.0]), ValueError, "angles"),
     (lambda: line_alignment(harmonic_orbit(1.0, 0.03, 0.03), w=W, c_mu=C_MU, angles=[0.0], distance=0.1,
-                            offsets=[0.0], lateral=[0.0], **MOREAU), ValueError, "does not drift"),
+                            offsets=[0.0], lateral=[0.0]), ValueError, "does not drift"),
     (lambda: corner_alignment(pair(0.0, 0.0), w=W, c_mu=C_MU, half_angle=0.0, distance=0.1, offsets=[0.0],
                               lateral=[0.0]), ValueError, "half_angle"),
     (lambda: Recording(np.arange(2.0), {}, lines={"a": np.zeros((1, 1, 2))}), ValueError, "lines"),

@@ -368,7 +368,7 @@ def line_alignment(profile: PlanarProfile, *, w: float, c_mu: float, angles, dis
     >>> from selfalign.analysis.planar_alignment import line_alignment
     >>> fig18 = PlanarProfile(x=sa.ThreePhaseProfile(dt=1.05, dy=0.084, y2=2.2, y3=0.9))
     >>> a = line_alignment(fig18, w=0.05, c_mu=2.5, angles=[math.radians(30)], distance=0.1, offsets=[0.0, 0.5],
-    ...                    lateral=[0.0], method="moreau")
+    ...                    lateral=[0.0])
     >>> a.at_limit.tolist(), round(a.stick_depth, 6)
     ([1.0], 0.04)
     """
@@ -496,7 +496,7 @@ def corner_alignment(profile: PlanarProfile, *, w: float, c_mu: float, half_angl
     >>> from selfalign.analysis.planar_alignment import corner_alignment
     >>> fig18 = PlanarProfile(x=sa.ThreePhaseProfile(dt=1.05, dy=0.084, y2=2.2, y3=0.9))
     >>> c = corner_alignment(fig18, w=0.05, c_mu=2.5, half_angle=0.6, distance=0.1, offsets=[0.0],
-    ...                      lateral=[-0.1, 0.1], method="moreau")
+    ...                      lateral=[-0.1, 0.1])
     >>> c.first.tolist(), bool(c.spread_radius > 0.1)
     ([1, 0], True)
     """

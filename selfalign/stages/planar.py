@@ -110,7 +110,7 @@ def planar_results(settings: dict) -> tuple[dict, dict, dict]:
 
     >>> from selfalign.stages.planar import planar_results
     >>> tp = {"dt": 1.05, "dy": 0.084, "y2": 2.2, "y3": 0.9}
-    >>> settings = {"method": "moreau", "solver_options": {"steps_per_period": 1000}, "tol": 1e-10,
+    >>> settings = {"method": "exact", "solver_options": {}, "tol": 1e-10,
     ...     "max_periods": 5000, "three_phase": tp, "offsets": 1,
     ...     "ratios": [0.0], "harmonic": {"dt": 1.0, "a": 0.05, "second": 0.3}, "harmonic_ratios": [0.0],
     ...     "symmetric": {"a": 0.05, "ratios": [1.0], "angle": 0.5}, "low_scales": [0.4],
