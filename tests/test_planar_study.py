@@ -11,6 +11,7 @@ import math
 
 import numpy as np
 import pytest
+from test_figures import assert_data_matches
 
 import selfalign as sa
 from selfalign.analysis.planar_alignment import (
@@ -272,3 +273,11 @@ def test_figures_and_recording_show_the_result(stage, tmp_path):
     x = stage[2]["example_line"]["datasets"]["x"]
     np.testing.assert_allclose(centres[: len(x), 0], x, rtol=0, atol=1e-6)   # stored as float32
     assert len(read_lines(path)["corner/strips"]) == 4
+
+
+@pytest.mark.parametrize("name", ["planar_drift", "planar_alignment"])
+def test_figures_match_their_references(repo, stage, update_figure_refs, name):
+    """Hypothesis: the figures of the shrunk stage draw the numbers of tests/figure_refs/<name>.json (the
+    figure test's tolerances), so a change of the study or of the drawing shows."""
+    fig = (drift_figure if name == "planar_drift" else alignment_figure)({"groups": stage[2]})
+    assert_data_matches(repo, fig, name, update_figure_refs)
