@@ -20,7 +20,7 @@ import math
 import numpy as np
 
 from ..model.planar import strip_rows
-from ..model.profiles import FourierProfile, PiecewiseConstantProfile
+from ..model.profiles import PiecewiseConstantProfile
 from . import exact
 from . import records as R
 from .engine import codes as C
@@ -73,7 +73,7 @@ def merged_pieces(rows: np.ndarray, dt: float, shift: float) -> np.ndarray:
         if p - keep[-1] > SWITCH_MERGE_ULPS * np.spacing(dt):
             keep.append(p)
     keep[-1] = dt
-    pieces = np.zeros((len(keep) - 1, C.PLANAR_PIECE_COLUMNS))
+    pieces = np.zeros((len(keep) - 1, C.GENERAL_PIECE_COLUMNS))
     for i, (a, b) in enumerate(zip(keep[:-1], keep[1:])):
         mid = 0.5 * (a + b)
         ty, offset = (mid - shift, shift) if mid >= shift else (mid - shift + dt, shift - dt)
@@ -107,6 +107,8 @@ def run(scene, options: dict) -> PlanarResult:
 
     Raises
     ------
+    ValueError
+        If ``scene`` is not planar, or its friction law is neither Coulomb's nor static/kinetic.
     KernelError
         If the compiled stepper cannot be compiled on this machine.
 
@@ -117,13 +119,20 @@ def run(scene, options: dict) -> PlanarResult:
     >>> import math
     >>> import selfalign as sa
     >>> from selfalign.solvers import planar_smooth
-    >>> profile = sa.PlanarProfile(sa.FiniteJerkProfile(dt=1.05, dy=0.084, y2=2.2, y3=0.9, ramp=0.02), angle=math.pi / 4)
+    >>> jerk = sa.FiniteJerkProfile(dt=1.05, dy=0.084, y2=2.2, y3=0.9, ramp=0.02)
+    >>> profile = sa.PlanarProfile(jerk, angle=math.pi / 4)
     >>> result = planar_smooth.run(sa.Scene(profile, periods=2), {"max_events": 1000})
     >>> result.reason.name, result.sticks, result.slips
     ('PERIODS', 2, 2)
     >>> bool(abs(result.x_end[0] - result.x_end[1]) < 1e-15)
     True
     """
+    if not getattr(scene, "planar", False):
+        raise ValueError("scene must be a planar scene (a PlanarProfile): the general exact planar solver simulates "
+                         "planar motion only")
+    if scene.friction.kind not in ("coulomb", "static_kinetic"):
+        raise ValueError(f"scene.friction.kind must be coulomb or static_kinetic for planar motion, got "
+                         f"{scene.friction.kind!r}")
     profile = scene.profile
     dt = float(profile.dt)
     shift = float(profile.offset) * dt
@@ -133,43 +142,44 @@ def run(scene, options: dict) -> PlanarResult:
     harmonics = max((R.data_size(row) for row in rows), default=0)
     tau0 = float(scene.phase) * dt
     spp = scene.record.samples_per_period
-    q = np.zeros(C.PLANAR_SETTINGS)
-    q[C.QDT], q[C.QSHIFT], q[C.QCOS], q[C.QSIN] = dt, shift, math.cos(profile.angle), math.sin(profile.angle)
-    q[C.QRATIO], q[C.QAMAX], q[C.QTAU0], q[C.QSAMPLE] = (scene.friction.ratio, profile.max_abs_acceleration, tau0,
-                                                         dt / spp)
-    q[C.QACC_TOL] = options.get("accumulation_tol", ACCUMULATION_TOL)
-    q[C.QGRID] = dt / (GRID_PER_HARMONIC * (harmonics + 1)) if harmonics > 0 else 0.0
+    q = np.zeros(C.GENERAL_SETTINGS)
+    q[C.GS_DT], q[C.GS_SHIFT], q[C.GS_COS], q[C.GS_SIN] = dt, shift, math.cos(profile.angle), math.sin(profile.angle)
+    q[C.GS_RATIO], q[C.GS_AMAX] = scene.friction.ratio, profile.max_abs_acceleration
+    q[C.GS_TAU0], q[C.GS_SAMPLE] = tau0, dt / spp
+    q[C.GS_ACC_TOL] = options.get("accumulation_tol", ACCUMULATION_TOL)
+    q[C.GS_GRID] = dt / (GRID_PER_HARMONIC * (harmonics + 1)) if harmonics > 0 else 0.0
     n_samples = scene.horizon_periods * spp + 1 if scene.record.dense else 0
     log_room = FIRST_LOG_ROOM if scene.record.events else 0
     while True:
-        f = np.zeros(C.PLANAR_FLOATS)
-        c = np.zeros(C.PLANAR_INTS, dtype=np.int64)
-        f[C.GX], f[C.GY] = scene.x0
-        f[C.GVX], f[C.GVY] = scene.v0
-        f[C.GTAU], f[C.GH] = tau0, FIRST_STEP * dt
-        f[C.GD1] = f[C.GD2] = math.inf
-        c[C.IPERIODS], c[C.IUNTIL_REST], c[C.IMAX_EVENTS] = scene.horizon_periods, scene.until == "rest", \
+        f = np.zeros(C.GENERAL_FLOATS)
+        c = np.zeros(C.GENERAL_INTS, dtype=np.int64)
+        f[C.GF_X], f[C.GF_Y] = scene.x0
+        f[C.GF_VX], f[C.GF_VY] = scene.v0
+        f[C.GF_TAU], f[C.GF_H] = tau0, FIRST_STEP * dt
+        f[C.GF_D1] = f[C.GF_D2] = math.inf
+        c[C.GI_PERIODS], c[C.GI_UNTIL_REST], c[C.GI_MAX_EVENTS] = scene.horizon_periods, scene.until == "rest", \
             options["max_events"]
-        c[C.IRECORD_SAMPLES], c[C.IRECORD_LOG] = n_samples > 0, log_room > 0
-        c[C.IMODE] = 0 if f[C.GVX] == 0.0 and f[C.GVY] == 0.0 else 1
-        c[C.IPIECE] = _piece_at(pieces, tau0)
-        samples = np.zeros((n_samples, C.PLANAR_RECORD_COLUMNS))
-        log = np.zeros((log_room, C.PLANAR_RECORD_COLUMNS))
+        c[C.GI_RECORD_SAMPLES], c[C.GI_RECORD_LOG] = n_samples > 0, log_room > 0
+        c[C.GI_MODE] = 0 if f[C.GF_VX] == 0.0 and f[C.GF_VY] == 0.0 else 1
+        c[C.GI_PIECE] = _piece_at(pieces, tau0)
+        samples = np.zeros((n_samples, C.GENERAL_RECORD_COLUMNS))
+        log = np.zeros((log_room, C.GENERAL_RECORD_COLUMNS))
         code = call(kernel().planar_smooth_run, rows, pieces, strips, q, f, c, samples, log)
-        if c[C.ILOG] <= log_room:
+        if c[C.GI_LOG] <= log_room:
             break
-        log_room = int(c[C.ILOG])
-    return _result(scene, options, Reason(code), f, c, samples[:c[C.ISAMPLES]], log[:c[C.ILOG]] if log_room else None)
+        log_room = int(c[C.GI_LOG])
+    log = log[:c[C.GI_LOG]] if log_room else None
+    return _result(scene, options, Reason(code), f, c, samples[:c[C.GI_SAMPLES]], log)
 
 
 def _result(scene, options, reason, f, c, samples, log) -> PlanarResult:
     """The :class:`PlanarResult` of one run of the stepper (its end arrays)."""
     dt = float(scene.profile.dt)
-    n, tau = int(c[C.IPERIOD]), float(f[C.GTAU])
-    x_end = np.array([f[C.GX], f[C.GY]])
-    v_end = np.array([f[C.GVX], f[C.GVY]])
+    n, tau = int(c[C.GI_PERIOD]), float(f[C.GF_TAU])
+    x_end = np.array([f[C.GF_X], f[C.GF_Y]])
+    v_end = np.array([f[C.GF_VX], f[C.GF_VY]])
     if reason is Reason.ACCUMULATION:
-        x_end = np.array([f[C.GLIMX], f[C.GLIMY]])
+        x_end = np.array([f[C.GF_LIMX], f[C.GF_LIMY]])
     text = ""
     if reason is Reason.MAX_EVENTS:
         text = message(reason, max_events=options["max_events"], period=n, tau=tau)
@@ -191,6 +201,6 @@ def _result(scene, options, reason, f, c, samples, log) -> PlanarResult:
         out_log["x"] = log[:, 2:4]
         out_log["v"] = log[:, 4:6]
     return PlanarResult(t_end=n * dt + tau, x_end=x_end, v_end=v_end, reason=reason, message=text,
-                        sticks=int(c[C.ISTICKS]), slips=int(c[C.ISLIPS]), crossings=int(c[C.ICROSSINGS]),
-                        breaks=int(c[C.IBREAKS]), steps=int(c[C.ISTEPS]), samples=out_samples, log=out_log)
+                        sticks=int(c[C.GI_STICKS]), slips=int(c[C.GI_SLIPS]), crossings=int(c[C.GI_CROSSINGS]),
+                        breaks=int(c[C.GI_BREAKS]), steps=int(c[C.GI_STEPS]), samples=out_samples, log=out_log)
 

@@ -88,24 +88,26 @@ PLANAR_FLOATS = 10
 PLANAR_COUNTERS = 10
 # Columns of its event log (period, phase, kind, x, y, vx, vy) and of its samples (x, y, vx, vy, mode).
 PLANAR_LOG_COLUMNS, PLANAR_SAMPLE_COLUMNS = 7, 5
+
+
 # The general planar stepper (:mod:`.planar_smooth`, :mod:`selfalign.solvers.planar_smooth`).  Its settings, a
 # float array: the period, the y component's lag (phase dt), cos and sin of the profile's angle, r = mu_s / mu_k,
 # max|Y''|, the start phase tau0, the sample spacing dt / samples_per_period, the accumulation tolerance, the stick
 # grid spacing (0: no Fourier component) ...
-(QDT, QSHIFT, QCOS, QSIN, QRATIO, QAMAX, QTAU0, QSAMPLE, QACC_TOL, QGRID) = range(10)
-PLANAR_SETTINGS = 10
+(GS_DT, GS_SHIFT, GS_COS, GS_SIN, GS_RATIO, GS_AMAX, GS_TAU0, GS_SAMPLE, GS_ACC_TOL, GS_GRID) = range(10)
+GENERAL_SETTINGS = 10
 # ... its float state (position, velocity, phase tau in the period, the slip direction at a start from rest, the
 # next step size, the last two distances of a band stick to the rest set, the end position of an accumulation and
 # its contraction) ...
-(GX, GY, GVX, GVY, GTAU, GUX, GUY, GH, GD1, GD2, GLIMX, GLIMY, GCONTRACTION) = range(13)
-PLANAR_FLOATS = 13
+(GF_X, GF_Y, GF_VX, GF_VY, GF_TAU, GF_UX, GF_UY, GF_H, GF_D1, GF_D2, GF_LIMX, GF_LIMY, GF_CONTRACTION) = range(13)
+GENERAL_FLOATS = 13
 # ... and its integers: settings (the horizon in periods, until='rest', the event budget, whether samples and the
 # log are recorded), the state (mode 0 stick / 1 slip, period, piece, zero-length events in a row, band sticks
 # seen) and the counts.
-(IPERIODS, IUNTIL_REST, IMAX_EVENTS, IRECORD_SAMPLES, IRECORD_LOG, IMODE, IPERIOD, IPIECE, ISTALLED, INH, ISTICKS,
- ISLIPS, ICROSSINGS, IBREAKS, ISTEPS, IEVENTS, ISAMPLES, ILOG) = range(18)
-PLANAR_INTS = 18
+(GI_PERIODS, GI_UNTIL_REST, GI_MAX_EVENTS, GI_RECORD_SAMPLES, GI_RECORD_LOG, GI_MODE, GI_PERIOD, GI_PIECE, GI_STALLED,
+ GI_NH, GI_STICKS, GI_SLIPS, GI_CROSSINGS, GI_BREAKS, GI_STEPS, GI_EVENTS, GI_SAMPLES, GI_LOG) = range(18)
+GENERAL_INTS = 18
 # Columns of its merged profile pieces (start and end phase, the piece of each component, the y component's time
 # offset) and of its samples (t, x, y, vx, vy, mode) and log entries (t, kind, x, y, vx, vy).
 PIECE_START, PIECE_END, PIECE_X, PIECE_Y, PIECE_OFFSET = range(5)
-PLANAR_PIECE_COLUMNS, PLANAR_RECORD_COLUMNS = 5, 6
+GENERAL_PIECE_COLUMNS, GENERAL_RECORD_COLUMNS = 5, 6

@@ -78,7 +78,6 @@ def planar_run(f, c, starts, accels, periods, until_rest, max_events, spp, sampl
                       spp, borrowed(samples), borrowed(log))
 
 
-@jit
 def planar_smooth_run(rows, pieces, strips, q, f, c, samples, log):
     """:func:`~.planar_smooth.run_planar_smooth`: the general exact stepper of planar motion, on its own arrays
     (:mod:`selfalign.solvers.planar_smooth`); returns the reason code."""

@@ -24,7 +24,8 @@ Stick (v = 0) holds while |Y''(t)| <= r mu_bar(x) (tie: stick).  It ends at the 
 located by Brent's method: on a piece whose components are piecewise linear |Y''|^2 is a convex quadratic (the
 end value decides, exactly one root); with a Fourier component on a grid of 64 (K + 1) intervals per period with
 its interior maxima (zeros of Y''.Y''' between a + and a - at the grid points) tested.  The slip then starts from
-rest along -Y''.
+rest along -Y''; a stop where |Y''| > r mu_bar is a reversal (the slip passes through zero speed and slips on
+along -Y'', logged as REVERSAL and counted in the event budget, not among the slips).
 
 Outcomes (:mod:`selfalign.solvers.planar_smooth`): REST at a stick where r mu_bar(x) >= max|Y''|; ACCUMULATION
 (until='rest') at a stick in a strip's transition band nearer the strip's rest line (where its mu reaches
@@ -47,57 +48,57 @@ from .. import records as R
 from ..outcomes import STALL_EVENTS
 from .codes import (
     EPS,
+    EV_REVERSAL,
     EV_SLIP,
     EV_STICK,
     EV_SWITCH,
     EV_ZONE,
-    GCONTRACTION,
-    GD1,
-    GD2,
-    GH,
-    GLIMX,
-    GLIMY,
-    GTAU,
-    GUX,
-    GUY,
-    GVX,
-    GVY,
-    GX,
-    GY,
-    IBREAKS,
-    ICROSSINGS,
-    IEVENTS,
-    ILOG,
-    IMAX_EVENTS,
-    IMODE,
-    INH,
-    IPERIOD,
-    IPERIODS,
-    IPIECE,
-    IRECORD_LOG,
-    IRECORD_SAMPLES,
-    ISAMPLES,
-    ISLIPS,
-    ISTALLED,
-    ISTEPS,
-    ISTICKS,
-    IUNTIL_REST,
+    GF_CONTRACTION,
+    GF_D1,
+    GF_D2,
+    GF_H,
+    GF_LIMX,
+    GF_LIMY,
+    GF_TAU,
+    GF_UX,
+    GF_UY,
+    GF_VX,
+    GF_VY,
+    GF_X,
+    GF_Y,
+    GI_BREAKS,
+    GI_CROSSINGS,
+    GI_EVENTS,
+    GI_LOG,
+    GI_MAX_EVENTS,
+    GI_MODE,
+    GI_NH,
+    GI_PERIOD,
+    GI_PERIODS,
+    GI_PIECE,
+    GI_RECORD_LOG,
+    GI_RECORD_SAMPLES,
+    GI_SAMPLES,
+    GI_SLIPS,
+    GI_STALLED,
+    GI_STEPS,
+    GI_STICKS,
+    GI_UNTIL_REST,
+    GS_ACC_TOL,
+    GS_AMAX,
+    GS_COS,
+    GS_DT,
+    GS_GRID,
+    GS_RATIO,
+    GS_SAMPLE,
+    GS_SIN,
+    GS_TAU0,
     NAN,
     PIECE_END,
     PIECE_OFFSET,
     PIECE_START,
     PIECE_X,
     PIECE_Y,
-    QACC_TOL,
-    QAMAX,
-    QCOS,
-    QDT,
-    QGRID,
-    QRATIO,
-    QSAMPLE,
-    QSIN,
-    QSHIFT,
-    QTAU0,
     REASON_ACCUMULATION,
     REASON_MAX_EVENTS,
     REASON_MAX_PERIODS,
@@ -132,7 +133,7 @@ STOP_FLOOR = 2.0**-40
 #: once that lag would exceed SLAVED_LAG (a velocity error of at most SLAVED_LAG |v| there), or where |Y''| falls
 #: below mu_bar / 2 or turns away from -v (a switch: the cosine of their angle below SLAVED_ALIGNED).  While
 #: slaved, a step starts with v put back on that direction (it drifts off by the step's integration error only).
-SLAVED_LAG, SLAVED_ALIGNED = 1.0e-6, 0.5
+SLAVED_LAG, SLAVED_ALIGNED = 1.0e-9, 0.5
 #: Rejected tries of one step after which the run ends with STALL (a step that shrinks without end).
 MAX_REJECTS = 200
 #: Event functions (:func:`_event_value`): a strip boundary, the equality of two strips' coefficients, |Y''|^2
@@ -159,7 +160,7 @@ def table_acceleration(rows, piece, q, tau):
     piece of each component and the y component's time offset): Y'' = R(angle) (Px''(tau), Py''(tau - offset))."""
     ax, jx = _component(rows[0], int(piece[PIECE_X]), tau)
     ay, jy = _component(rows[1], int(piece[PIECE_Y]), tau - piece[PIECE_OFFSET])
-    c, s = q[QCOS], q[QSIN]
+    c, s = q[GS_COS], q[GS_SIN]
     return c * ax - s * ay, s * ax + c * ay, c * jx - s * jy, s * jx + c * jy
 
 
@@ -265,7 +266,7 @@ def _locate(kind, a, b, rows, piece, strips, q, tau, y, u, slaved, lo, hi, k, ou
     """The sign change of :func:`_event_value` in [lo, hi] (g(hi) = 0 or of the other sign than g(lo)) by Brent's
     method (the steps of scipy.optimize.brentq) to 2 eps dt + 4 eps s; returns the end of the last bracket on hi's
     side, so that the event has happened there."""
-    xtol = 2.0 * EPS * q[QDT]
+    xtol = 2.0 * EPS * q[GS_DT]
     rtol = 4.0 * EPS
     xpre, xcur = lo, hi
     fpre = _event_value(kind, a, b, rows, piece, strips, q, tau, y, u, slaved, xpre, k, out)
@@ -319,7 +320,7 @@ def _stick_end(rows, piece, strips, q, start, end, limit, k, out):
     u = out[:2]
     if _event_value(_STICK, limit, 0.0, rows, piece, strips, q, 0.0, y, u, False, start, k, out) > 0.0:
         return start
-    grid = q[QGRID]
+    grid = q[GS_GRID]
     p = start
     while p < end:
         nxt = min(p + grid, end) if grid > 0.0 else end
@@ -377,7 +378,7 @@ def _slip_step(rows, piece, strips, q, tau, end, y, u, slaved, h, y1, tmp, k, si
     """One accepted slip step from (tau, y) of at most ``end`` - tau, its end state into ``y1``.  Returns (what ended
     it: _PLAIN, _STOPPED, _CROSSED or _FAILED, its length, the boundary crossed (j of :func:`_boundary_value`), the
     next step size, whether the slip from rest is still ``slaved`` (:data:`SLAVED_LAG`))."""
-    dt = q[QDT]
+    dt = q[GS_DT]
     rho = math.hypot(y[2], y[3])
     if rho > 0.0:
         u[0], u[1] = y[2] / rho, y[3] / rho
@@ -459,32 +460,32 @@ def _samples_until(samples, c, q, t0, span, y, u, slaved, rows, piece, strips, t
     """Record the samples at times in (t0, t0 + span] (the first one at t0 too, if it is still due): stuck or at
     the linear stop (``mode`` 0, 2: x + v s (1 - s / (2 span)), v (1 - s / span)) or on the slip's local solution
     (``mode`` 1: one DOP853 step of length s from (tau, y))."""
-    while c[ISAMPLES] < samples.shape[0]:
-        t = q[QTAU0] + c[ISAMPLES] * q[QSAMPLE]
+    while c[GI_SAMPLES] < samples.shape[0]:
+        t = q[GS_TAU0] + c[GI_SAMPLES] * q[GS_SAMPLE]
         s = t - t0
         if s > span:
             return
         s = max(s, 0.0)
         if mode == 1:
             _rk_step(rows, piece, strips, q, tau, y, u, slaved, s, k, tmp)
-            _record(samples, c, ISAMPLES, t, tmp[0], tmp[1], tmp[2], tmp[3], 1.0)
+            _record(samples, c, GI_SAMPLES, t, tmp[0], tmp[1], tmp[2], tmp[3], 1.0)
         elif mode == 2:
             f = 1.0 - s / span if span > 0.0 else 0.0
             g = s * (1.0 - 0.5 * s / span) if span > 0.0 else 0.0
-            _record(samples, c, ISAMPLES, t, y[0] + y[2] * g, y[1] + y[3] * g, y[2] * f, y[3] * f, 1.0)
+            _record(samples, c, GI_SAMPLES, t, y[0] + y[2] * g, y[1] + y[3] * g, y[2] * f, y[3] * f, 1.0)
         else:
-            _record(samples, c, ISAMPLES, t, y[0], y[1], 0.0, 0.0, 0.0)
+            _record(samples, c, GI_SAMPLES, t, y[0], y[1], 0.0, 0.0, 0.0)
 
 
 @jit
 def _held(q, f, c, strips, px, py, mu):
     """The stick outcomes at (px, py) (friction ``mu``): REST where r mu >= max|Y''|, ACCUMULATION (until='rest')
     at a band stick nearer its strip's rest line than the previous one and within accumulation_tol of it, else 0."""
-    r = q[QRATIO]
-    amax = q[QAMAX]
+    r = q[GS_RATIO]
+    amax = q[GS_AMAX]
     if r * mu >= amax:
         return REASON_REST
-    if c[IUNTIL_REST] == 0 or strips.shape[0] == 0:
+    if c[GI_UNTIL_REST] == 0 or strips.shape[0] == 0:
         return 0
     i = _largest_strip(strips, px, py, 0.0, 0.0)
     if i < 0:
@@ -494,13 +495,13 @@ def _held(q, f, c, strips, px, py, mu):
     if not (0.0 <= g <= s[STRIP_W] and amax / r <= s[STRIP_CMU]):
         return 0
     d = (amax / r - mu) * s[STRIP_W] / (s[STRIP_CMU] - 1.0)
-    if c[INH] >= 1 and d < f[GD1] and d <= q[QACC_TOL]:
-        f[GLIMX], f[GLIMY] = px + d * s[STRIP_NX], py + d * s[STRIP_NY]
-        f[GCONTRACTION] = (f[GD1] - d) / (f[GD2] - f[GD1]) if c[INH] >= 2 and f[GD2] > f[GD1] else NAN
+    if c[GI_NH] >= 1 and d < f[GF_D1] and d <= q[GS_ACC_TOL]:
+        f[GF_LIMX], f[GF_LIMY] = px + d * s[STRIP_NX], py + d * s[STRIP_NY]
+        f[GF_CONTRACTION] = (f[GF_D1] - d) / (f[GF_D2] - f[GF_D1]) if c[GI_NH] >= 2 and f[GF_D2] > f[GF_D1] else NAN
         return REASON_ACCUMULATION
-    f[GD2] = f[GD1]
-    f[GD1] = d
-    c[INH] = min(c[INH] + 1, 2)
+    f[GF_D2] = f[GF_D1]
+    f[GF_D1] = d
+    c[GI_NH] = min(c[GI_NH] + 1, 2)
     return 0
 
 
@@ -509,24 +510,24 @@ def run_planar_smooth(rows, pieces, strips, q, f, c, samples, log):
     """Run one planar scene: the start state in ``f``, ``c`` (columns of :mod:`.codes`: G*, I*), the profile as two
     component rows and the merged pieces table, the strips (K, 5), the settings ``q``; writes the end state, the
     counts, the samples and the log (counted past their ends, written while they fit).  Returns the reason code."""
-    dt = q[QDT]
-    tau0 = q[QTAU0]
-    periods = c[IPERIODS]
-    record_samples = c[IRECORD_SAMPLES] != 0
-    record_log = c[IRECORD_LOG] != 0
+    dt = q[GS_DT]
+    tau0 = q[GS_TAU0]
+    periods = c[GI_PERIODS]
+    record_samples = c[GI_RECORD_SAMPLES] != 0
+    record_log = c[GI_RECORD_LOG] != 0
     y = np.empty(4)
     y1 = np.empty(4)
     tmp = np.empty(4)
     u = np.empty(2)
     k = np.empty((STAGES + 1, 4))
     sides = np.zeros(2 * strips.shape[0], np.int64)
-    y[0], y[1], y[2], y[3] = f[GX], f[GY], f[GVX], f[GVY]
-    u[0], u[1] = f[GUX], f[GUY]
-    tau = f[GTAU]
-    n = c[IPERIOD]
-    p = c[IPIECE]
-    mode = c[IMODE]
-    h = f[GH]
+    y[0], y[1], y[2], y[3] = f[GF_X], f[GF_Y], f[GF_VX], f[GF_VY]
+    u[0], u[1] = f[GF_UX], f[GF_UY]
+    tau = f[GF_TAU]
+    n = c[GI_PERIOD]
+    p = c[GI_PIECE]
+    mode = c[GI_MODE]
+    h = f[GF_H]
     slaved = False
     last_event = -1.0
     stalled = 0
@@ -536,11 +537,11 @@ def run_planar_smooth(rows, pieces, strips, q, f, c, samples, log):
                        0 if mode == 0 else 1, k, tmp)
     if mode == 0:
         held = _held(q, f, c, strips, y[0], y[1], planar_coefficient(y[0], y[1], strips))
-        if held == REASON_REST and c[IUNTIL_REST] != 0:
+        if held == REASON_REST and c[GI_UNTIL_REST] != 0:
             reason = held
     while reason < 0:
         if n >= periods and tau >= tau0:
-            reason = REASON_PERIODS if c[IUNTIL_REST] == 0 else REASON_MAX_PERIODS
+            reason = REASON_PERIODS if c[GI_UNTIL_REST] == 0 else REASON_MAX_PERIODS
             break
         piece = pieces[p]
         end = piece[PIECE_END]
@@ -550,7 +551,7 @@ def run_planar_smooth(rows, pieces, strips, q, f, c, samples, log):
         event = -1
         if mode == 0:
             mu = planar_coefficient(y[0], y[1], strips)
-            root = _stick_end(rows, piece, strips, q, tau, end, q[QRATIO] * mu, k, tmp)
+            root = _stick_end(rows, piece, strips, q, tau, end, q[GS_RATIO] * mu, k, tmp)
             span = (root if root >= 0.0 else end) - tau
             if record_samples:
                 _samples_until(samples, c, q, t0, span, y, u, slaved, rows, piece, strips, tau, 0, k, tmp)
@@ -562,7 +563,7 @@ def run_planar_smooth(rows, pieces, strips, q, f, c, samples, log):
                 mode = 1
                 slaved = True
                 event = EV_SLIP
-                c[ISLIPS] += 1
+                c[GI_SLIPS] += 1
         else:
             outcome, length, crossed, h_next, slaved = _slip_step(rows, piece, strips, q, tau, end, y, u, slaved, h,
                                                                   y1, tmp, k, sides)
@@ -576,7 +577,7 @@ def run_planar_smooth(rows, pieces, strips, q, f, c, samples, log):
                 _samples_until(samples, c, q, t0, length, y, u, slaved, rows, piece, strips, tau,
                                2 if outcome == _STOPPED else 1, k, tmp)
             h = h_next
-            c[ISTEPS] += 1
+            c[GI_STEPS] += 1
             before = tau
             tau = end if length == end - tau else tau + length
             if tau == before and outcome == _PLAIN:       # a step that does not advance: a stalled loop
@@ -587,31 +588,30 @@ def run_planar_smooth(rows, pieces, strips, q, f, c, samples, log):
             y[0], y[1], y[2], y[3] = y1[0], y1[1], y1[2], y1[3]
             if outcome == _CROSSED:
                 event = EV_ZONE
-                c[ICROSSINGS] += 1
+                c[GI_CROSSINGS] += 1
             elif outcome == _STOPPED:
                 ax, ay, _, _ = table_acceleration(rows, piece, q, tau)
                 mu = planar_coefficient(y[0], y[1], strips)
-                limit = q[QRATIO] * mu
+                limit = q[GS_RATIO] * mu
                 if ax * ax + ay * ay <= limit * limit:
                     mode = 0
                     event = EV_STICK
-                    c[ISTICKS] += 1
-                else:                           # passes through zero speed: slips on along -Y''
+                    c[GI_STICKS] += 1
+                else:                           # passes through zero speed: slips on along -Y'' (a reversal)
                     size = math.hypot(ax, ay)
                     u[0], u[1] = -ax / size, -ay / size
                     slaved = True
-                    event = EV_SLIP
-                    c[ISLIPS] += 1
+                    event = EV_REVERSAL
         if event >= 0:
-            c[IEVENTS] += 1
+            c[GI_EVENTS] += 1
             t = n * dt + tau
             if record_log:
-                _record(log, c, ILOG, t, float(event), y[0], y[1], y[2], y[3])
+                _record(log, c, GI_LOG, t, float(event), y[0], y[1], y[2], y[3])
             stalled = stalled + 1 if t == last_event else 0
             last_event = t
             if event == EV_STICK:
                 reason = _held(q, f, c, strips, y[0], y[1], planar_coefficient(y[0], y[1], strips))
-                if reason == REASON_REST and c[IUNTIL_REST] == 0:
+                if reason == REASON_REST and c[GI_UNTIL_REST] == 0:
                     reason = -1
                 if reason == 0:
                     reason = -1
@@ -620,7 +620,7 @@ def run_planar_smooth(rows, pieces, strips, q, f, c, samples, log):
             if stalled > STALL_EVENTS:
                 reason = REASON_STALL
                 break
-            if c[IEVENTS] >= c[IMAX_EVENTS]:
+            if c[GI_EVENTS] >= c[GI_MAX_EVENTS]:
                 reason = REASON_MAX_EVENTS
                 break
         if tau >= piece[PIECE_END]:                # the next merged piece: a switch of a component, or a period
@@ -632,14 +632,15 @@ def run_planar_smooth(rows, pieces, strips, q, f, c, samples, log):
             else:
                 tau = pieces[nxt, PIECE_START]
             if pieces[nxt, PIECE_X] != piece[PIECE_X] or pieces[nxt, PIECE_Y] != piece[PIECE_Y]:
-                c[IBREAKS] += 1
+                c[GI_BREAKS] += 1
                 if record_log:
-                    _record(log, c, ILOG, n * dt + tau, float(EV_SWITCH), y[0], y[1], y[2], y[3])
+                    _record(log, c, GI_LOG, n * dt + tau, float(EV_SWITCH), y[0], y[1], y[2], y[3])
             p = nxt
     if reason == REASON_PERIODS or reason == REASON_MAX_PERIODS:
-        while record_samples and c[ISAMPLES] < samples.shape[0]:
-            _record(samples, c, ISAMPLES, tau0 + c[ISAMPLES] * q[QSAMPLE], y[0], y[1], y[2], y[3],
+        while record_samples and c[GI_SAMPLES] < samples.shape[0]:
+            _record(samples, c, GI_SAMPLES, tau0 + c[GI_SAMPLES] * q[GS_SAMPLE], y[0], y[1], y[2], y[3],
                     0.0 if mode == 0 else 1.0)
-    f[GX], f[GY], f[GVX], f[GVY], f[GTAU], f[GUX], f[GUY], f[GH] = y[0], y[1], y[2], y[3], tau, u[0], u[1], h
-    c[IPERIOD], c[IPIECE], c[IMODE], c[ISTALLED] = n, p, mode, stalled
+    f[GF_X], f[GF_Y], f[GF_VX], f[GF_VY] = y[0], y[1], y[2], y[3]
+    f[GF_TAU], f[GF_UX], f[GF_UY], f[GF_H] = tau, u[0], u[1], h
+    c[GI_PERIOD], c[GI_PIECE], c[GI_MODE], c[GI_STALLED] = n, p, mode, stalled
     return reason
