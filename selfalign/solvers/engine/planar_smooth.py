@@ -4,7 +4,7 @@ combinations; docs/explanation/planar-model.md, "General stepper: accurate local
 
 Slip (|v| > 0): x' = v, v' = -Y''(t) - mu_bar(x) v/|v| is integrated by the explicit Runge-Kutta method of order
 8 of Dormand and Prince (DOP853, the coefficients of scipy.integrate's DOP853) with step-size control at
-:data:`RTOL`, :data:`ATOL`.  The right-hand side is smooth between the events, and every step ends at one:
+:data:`RTOL`, :data:`ATOL`.  The right-hand side is smooth between the events, and the steps are cut at them:
 
 * a profile switch (a piece of the merged pieces table ends: y'' jumps or kinks) and the horizon's end, known in
   advance, are step ends;
