@@ -39,6 +39,7 @@ include: "workflow/rules/finite_jerk.smk"
 include: "workflow/rules/figures.smk"
 include: "workflow/rules/optimal_motion.smk"
 include: "workflow/rules/parts.smk"
+include: "workflow/rules/planar.smk"
 include: "workflow/rules/report.smk"
 
 

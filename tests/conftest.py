@@ -175,6 +175,12 @@ def small_config(repo: Path) -> dict:
                       motion={"n": 2, "spacing": 0.05, "restitution": 0.0},
                       design={**s["parts"]["design"], "spec": s["design"]["designs"][-1], "n_max": 2,
                               "max_periods": 50})
+    # The planar study on 2 x 2 maps, two scales, two angles and a few entries.
+    p = s["planar"]
+    p.update(offsets=2, ratios=[0.0, 0.5], harmonic_ratios=[0.0, 0.5], low_scales=[0.4],
+             limit={**p["limit"], "scales": [8.0, 16.0]})
+    p["alignment"].update(angles=[0.0, 40.0], starts=2, lateral=[0.0, 0.05],
+                          corner={**p["alignment"]["corner"], "starts": 1, "lateral": [-0.1, 0.1]})
     return config
 
 
@@ -192,7 +198,7 @@ def run_small_pipeline(repo: Path, workdir: Path) -> tuple[list[str], int, str]:
     targets += [f"results/accumulation/{n}.h5" for n in ("fig16", "fig17", "fig18")]
     targets += [f"results/design/{name}.h5" for name in s["design"]["designs"]]
     targets += ["results/effects/static_friction.h5", "results/effects/stribeck.h5",
-                "results/finite_jerk/finite_jerk.h5", "results/parts/queue.h5"]
+                "results/finite_jerk/finite_jerk.h5", "results/parts/queue.h5", "results/planar/planar.h5"]
     rc, out = run_snakemake(workdir, "-c2", timeout=PIPELINE_TIMEOUT)
     return targets, rc, out
 

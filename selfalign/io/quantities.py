@@ -486,6 +486,67 @@ QUANTITIES.update({
 })
 
 
+#: The planar study (selfalign.analysis.planar_drift, selfalign.analysis.planar_alignment,
+#: docs/explanation/planar-alignment.md): vectors in the plane are stored with a last axis (x, y).
+_CORNER_FIRST = {0: "the first strip (normal turned by +half_angle)", 1: "the second strip (-half_angle)"}
+QUANTITIES.update({
+    "drift_*/offset": Quantity("number", "the axis: phase offset (lag) of the y motion in periods"),
+    "drift_*/amplitude": Quantity("number", "the axis: amplitude of the y motion over that of the x motion"),
+    "drift_*/v_bar": Quantity("velocity", "steady mean velocity vector v_bar (x, y) (eq. 10 in the plane)"),
+    "drift_*/speed": Quantity("velocity", "|v_bar|"),
+    "drift_*/direction": Quantity("number", "angle of v_bar from the x axis [rad]"),
+    "drift_*/periods": Quantity("count", "periods from rest until the period-boundary velocity repeats"),
+    "drift_*/converged": Quantity("boolean", "the period-boundary velocity repeated within the tolerance"),
+    "drift_*/max_acceleration": Quantity("acceleration", "max|Y''| of the table motion"),
+    "symmetric/orbit": Quantity("text", "the orbit (Y(t + dt/2) = -Y(t))"),
+    "symmetric/v_bar": Quantity("velocity", "steady mean velocity vector v_bar (x, y), zero by the symmetry"),
+    "symmetric/periods": Quantity("count", "periods from rest until the period-boundary velocity repeats"),
+    "symmetric/max_acceleration": Quantity("acceleration", "max|Y''| of the orbit"),
+    "low_acceleration/scale": Quantity("number", "factor on the table motion"),
+    "low_acceleration/max_acceleration": Quantity("acceleration", "max|Y''| of the scaled motion (<= 1: the part "
+                                                                  "sticks)"),
+    "low_acceleration/v_bar": Quantity("velocity", "steady mean velocity vector v_bar (x, y)"),
+    "limit_*/scale": Quantity("number", "factor on the table motion"),
+    "limit_*/max_acceleration": Quantity("acceleration", "max|Y''| of the scaled motion"),
+    "limit_*/v_bar": Quantity("velocity", "steady mean velocity vector v_bar (x, y), simulated"),
+    "limit_*/v_limit": Quantity("velocity", "the high-acceleration limit: the geometric median of Y'(t)"),
+    "limit_*/error": Quantity("number", "|v_bar - v_limit| over the table's peak speed max|Y'|"),
+    "limit_*/periods": Quantity("count", "periods from rest to the steady state"),
+    "limit_*/slope": Quantity("number", "exponent p of the least-squares fit error = C max|Y''|^p (-1 by the "
+                                        "asymptotic order)"),
+    "limit_*/constant": Quantity("number", "factor C of that fit"),
+    "limit_*/local_slope": Quantity("number", "exponent between the two largest scales"),
+    "line_*/angle": Quantity("number", "the axis: angle between the drift and the strip's normal [rad]"),
+    "line_*/normal": Quantity("number", "unit normal n (x, y) of the strip at each angle"),
+    "line_*/v_bar": Quantity("velocity", "steady mean velocity vector v_bar (x, y) on the uniform surface"),
+    "line_*/depth": Quantity("length", "n.x_end - x_mu of each entry at each angle"),
+    "line_*/along": Quantity("length", "t.x_end minus lateral, t the strip's direction: where along the strip the "
+                                       "entry ends from where its drift line meets the edge"),
+    "line_*/lateral": Quantity("length", "t.p, p where the entry's drift line meets the strip's edge"),
+    "line_*/x_end": Quantity("length", "end position (x, y) of each entry at each angle"),
+    "line_*/stopped": Quantity("boolean", "the entry came to rest or accumulated at x_stick_min"),
+    "line_*/dx_d_normal": Quantity("length", "Delta x_d (eq. 39) along n at each angle"),
+    "line_*/dx_d_along": Quantity("length", "Delta x_d along the strip at each angle (half the range of t.x_end)"),
+    "line_*/dx_d_slide": Quantity("length", "half the range of along at each angle: the spread the motion adds to "
+                                            "that of the entry lines"),
+    "line_*/at_limit": Quantity("number", "fraction of the entries that end at x_stick_min along n (accumulated)"),
+    "line_*/stick_depth": Quantity("length", "x_stick_min - x_mu along n (eq. 41)"),
+    "corner/normal": Quantity("number", "unit normals n (x, y) of the two strips"),
+    "corner/corner": Quantity("length", "the point (x, y) where both strips' x_stick_min lines meet"),
+    "corner/start": Quantity("length", "start position (x, y) of each entry"),
+    "corner/x_end": Quantity("length", "end position (x, y) of each entry"),
+    "corner/stopped": Quantity("boolean", "the entry came to rest or accumulated at x_stick_min of a strip"),
+    "corner/first": Quantity("code", "the strip that holds each entry", _CORNER_FIRST),
+    "corner/distance": Quantity("length", "distance of each entry's end from the corner point"),
+    "corner/spread_radius": Quantity("length", "largest distance of an end from the corner point"),
+    "corner/dx_d": Quantity("length", "Delta x_d (eq. 39) along x and along y"),
+    "corner/stick_depth": Quantity("length", "x_stick_min - x_mu along each normal (eq. 41)"),
+    "example_*/t": Quantity("time", "time t of each sample of the example path"),
+    "example_*/x": Quantity("length", "relative position (x, y) of the part"),
+    "example_*/normal": Quantity("number", "unit normal n (x, y) of each strip"),
+    "example_*/x_mu": Quantity("length", "edge x_mu of each strip along its normal"),
+})
+
 def quantity(path: str) -> Quantity:
     """The Quantity of the dataset at ``path`` (e.g. ``"series/mode"``); ValueError if undocumented."""
     parts = path.strip("/").split("/")

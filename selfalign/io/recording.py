@@ -45,7 +45,8 @@ class LogEntries(NamedTuple):
 class Boxes(NamedTuple):
     """Axis-aligned boxes moving along x (several parts on one line): ``centres`` x of each box at each time,
     shape (times, boxes); ``half_widths`` per box, shape (boxes,); ``half_height`` their common half height
-    (the boxes sit on y = 0).  Drawn in a 2-D view, one entity per name."""
+    (the boxes sit on y = 0).  Boxes moving in the plane give ``centres`` (x, y) of shape (times, boxes, 2)
+    instead.  Drawn in a 2-D view, one entity per name."""
 
     centres: np.ndarray
     half_widths: np.ndarray
@@ -86,7 +87,9 @@ class Recording:
       floor(t / period) on the sequence timeline :data:`PERIOD_TIMELINE`;
     * ``view_titles``: plot (first path segment of series and markers) -> title; titled plots
       come first, in this order, then the others in order of appearance;
-    * ``boxes``: name -> :class:`Boxes` at ``times``, drawn in one 2-D view per first path segment.
+    * ``boxes``: name -> :class:`Boxes` at ``times``, drawn in one 2-D view per first path segment;
+    * ``lines``: name -> static polylines in the plane, shape (lines, points, 2), drawn in the 2-D view of
+      their first path segment (the outlines of a surface under moving boxes).
 
     The default blueprint stacks one time-series view per plot vertically (so that they share
     the time axis, linked), beside the documents and one text-log view of all logs.
@@ -102,6 +105,7 @@ class Recording:
     view_titles: dict[str, str] = field(default_factory=dict)
     application_id: str = "selfalign"
     boxes: dict[str, Boxes] = field(default_factory=dict)
+    lines: dict[str, np.ndarray] = field(default_factory=dict)
 
     def __post_init__(self):
         times = _check_times("times", self.times)
@@ -135,24 +139,34 @@ class Recording:
         for name, (centres, half_widths, half_height) in self.boxes.items():
             centres, half_widths = np.asarray(centres, float), np.asarray(half_widths, float)
             _check_name("boxes", name)
-            if centres.ndim != 2 or centres.shape[0] != times.size or half_widths.shape != centres.shape[1:]:
+            planar = centres.ndim == 3 and centres.shape[2:] == (2,)
+            if (centres.ndim != 2 and not planar) or centres.shape[0] != times.size \
+                    or half_widths.shape != centres.shape[1:2]:
                 raise ValueError(f"boxes {name!r}: centres must have shape (times, boxes) = "
-                                 f"({times.size}, n) and half_widths (n,), got {centres.shape} and "
-                                 f"{half_widths.shape}")
+                                 f"({times.size}, n), or (times, boxes, 2) in the plane, and half_widths (n,), "
+                                 f"got {centres.shape} and {half_widths.shape}")
             if not (np.all(np.isfinite(centres)) and np.all(half_widths > 0) and half_height > 0):
                 raise ValueError(f"boxes {name!r}: centres must be finite, half_widths and half_height > 0")
             boxes[name] = Boxes(centres, half_widths, float(half_height))
-        entities = [*series, *markers, *logs, *self.documents, *boxes]
+        lines = {}
+        for name, strips in self.lines.items():
+            strips = np.asarray(strips, float)
+            if strips.ndim != 3 or strips.shape[1] < 2 or strips.shape[2] != 2 or not np.all(np.isfinite(strips)):
+                raise ValueError(f"lines {_check_name('lines', name)!r}: must have shape (lines, points >= 2, 2) "
+                                 f"and be finite, got {strips.shape}")
+            lines[name] = strips
+        entities = [*series, *markers, *logs, *self.documents, *boxes, *lines]
         repeated = sorted({n for n in entities if entities.count(n) > 1})
         if repeated:
-            raise ValueError(f"entity name(s) {repeated} used twice (series, markers, logs, documents and boxes)")
+            raise ValueError(f"entity name(s) {repeated} used twice (series, markers, logs, documents, boxes and "
+                             "lines)")
         unknown = sorted(set(self.view_titles) - set(default_groups([*series, *markers])))
         if unknown:
             raise ValueError(f"view_titles name plots that are not recorded: {unknown}")
         if self.period is not None and not (np.isfinite(self.period) and self.period > 0):
             raise ValueError(f"period must be a positive finite number or None, got {self.period!r}")
         for key, value in (("times", times), ("series", series), ("markers", markers), ("logs", logs),
-                           ("boxes", boxes)):
+                           ("boxes", boxes), ("lines", lines)):
             object.__setattr__(self, key, value)
 
     def plots(self) -> dict[str, str]:
@@ -177,7 +191,8 @@ class Recording:
         linked = rrb.archetypes.TimeAxis(link=rrb.components.LinkAxis.LinkToGlobal)
         plots = rrb.Vertical(*(rrb.TimeSeriesView(name=title, origin=f"/{plot}", axis_x=linked)
                                for plot, title in self.plots().items()))
-        side = [rrb.Spatial2DView(name=scene, origin=f"/{scene}") for scene in default_groups(self.boxes)]
+        side = [rrb.Spatial2DView(name=scene, origin=f"/{scene}") for scene in default_groups([*self.boxes,
+                                                                                               *self.lines])]
         side += [rrb.TextDocumentView(name=name, origin=f"/{name}") for name in self.documents]
         if self.logs:
             side.append(rrb.TextLogView(name="log", origin="/", contents=[f"/{name}" for name in self.logs]))
@@ -210,10 +225,13 @@ def write_recording(path, recording: Recording) -> Path:
                 rec.log(f"/{name}", rr.SeriesPoints(markers="circle", marker_sizes=4.0), static=True)
                 rec.send_columns(f"/{name}", indexes=recording.indexes(at),
                                  columns=rr.Scalars.columns(scalars=values))
+            for name, strips in recording.lines.items():
+                rec.log(f"/{name}", rr.LineStrips2D(list(strips)), static=True)
             for name, (centres, half_widths, half_height) in recording.boxes.items():
                 count = centres.shape[1]
-                xy = np.stack([centres.ravel(), np.full(centres.size, half_height)], axis=1)
-                half = np.stack([np.tile(half_widths, centres.shape[0]), np.full(centres.size, half_height)], axis=1)
+                xy = (centres.reshape(-1, 2) if centres.ndim == 3 else
+                      np.stack([centres.ravel(), np.full(centres.size, half_height)], axis=1))
+                half = np.stack([np.tile(half_widths, centres.shape[0]), np.full(len(xy), half_height)], axis=1)
                 rec.send_columns(f"/{name}", indexes=index, columns=rr.Boxes2D.columns(
                     centers=xy, half_sizes=half).partition(lengths=np.full(centres.shape[0], count)))
             for name, entries in recording.logs.items():
@@ -333,4 +351,16 @@ def read_boxes(path, *, timeline: str = "time") -> dict[str, tuple[np.ndarray, n
         shape = (index.size, count, 2)
         out[name] = (index, np.asarray(centres.flatten().flatten().to_numpy(zero_copy_only=False)).reshape(shape),
                      np.asarray(half.flatten().flatten().to_numpy(zero_copy_only=False)).reshape(shape))
+    return out
+
+
+def read_lines(path) -> dict[str, list[np.ndarray]]:
+    """Static polylines of an rrd file (``Recording.lines``): name -> one (points, 2) array per line.  Used to
+    check what a recording holds."""
+    out = {}
+    for chunk in _chunks(path):
+        batch = chunk.to_record_batch()
+        if "LineStrips2D:strips" in batch.schema.names:
+            (strips,) = batch.column("LineStrips2D:strips").to_pylist()
+            out[chunk.entity_path.lstrip("/")] = [np.asarray(line, float) for line in strips]
     return out
