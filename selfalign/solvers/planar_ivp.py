@@ -65,6 +65,13 @@ from .planar import PLANAR_EVENT_DTYPE, PLANAR_SAMPLE_DTYPE, PlanarResult, sampl
 #: that size.  At a larger speed it is v turning through the normal of the driving force, and the slip
 #: goes on.
 SPEED_TOLERANCES = 10.0
+#: Evaluations of the slip ODE one piece may take before the run ends with SOLVER_FAILED: a slip whose steps
+#: shrink without end (a zero speed or a boundary no event resolved) is an error, never a hang.
+MAX_SLIP_EVALUATIONS = 200_000
+
+
+class _TooManySteps(Exception):
+    """A slip piece used up MAX_SLIP_EVALUATIONS."""
 
 
 def _from_zero(fun, t_start, limit):
@@ -298,7 +305,12 @@ class _Run:
                 e = self.drive(t, start_dir)
                 return y[2] * e[0] + y[3] * e[1]
 
+        calls = [0]
+
         def rhs(t, y):
+            calls[0] += 1
+            if calls[0] > MAX_SLIP_EVALUATIONS:
+                raise _TooManySteps
             s = math.hypot(y[2], y[3])
             ux, uy = (y[2] / s, y[3] / s) if s > 0.0 else start_dir
             mu = mu_bar(y[0], y[1], rows)
@@ -325,8 +337,13 @@ class _Run:
         self.fresh_sign, self.on_boundary = None, None
         t_end, which = tau_b, None
         for _ in range(4):
-            sol = solve_ivp(rhs, (tau_a, t_end), y0, method=self.integrator, rtol=self.rtol, atol=self.atol,
-                            events=events, dense_output=self.dense)
+            try:
+                sol = solve_ivp(rhs, (tau_a, t_end), y0, method=self.integrator, rtol=self.rtol, atol=self.atol,
+                                events=events, dense_output=self.dense)
+            except _TooManySteps:
+                return Reason.SOLVER_FAILED, (f"solve_ivp needed more than {MAX_SLIP_EVALUATIONS} evaluations of the "
+                                              f"slip ODE in one piece at period {self.p}, tau {tau_a!r} (steps "
+                                              f"shrinking at a zero speed or a strip boundary no event resolved)")
             self.counts["steps"] += sol.t.size - 1
             if sol.status != 1:
                 break
