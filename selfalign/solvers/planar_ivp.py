@@ -1,6 +1,6 @@
 """Planar mode-switching integration with scipy.integrate.solve_ivp (``method="ivp"`` of a planar scene).
 
-The planar counterpart of :mod:`selfalign.solvers.ivp` (docs/explanation/planar.md): the inclusion
+The planar counterpart of :mod:`selfalign.solvers.ivp` (docs/explanation/planar-model.md): the inclusion
 x'' = -Y''(t) + f, f in -mu_bar(x) Sign2(x') of a point part on a table moving in the plane is
 integrated one smooth piece at a time in the current mode:
 
