@@ -407,7 +407,7 @@ def run(scene, options: dict) -> PlanarResult:
     >>> result = planar_ivp.run(scene, {"rtol": 1e-10, "atol": 1e-12, "integrator": "DOP853",
     ...                                 "max_events": 10_000})
     >>> result.reason.name, result.x_end.round(6).tolist()
-    ('PERIODS', [0.080651, 0.078373])
+    ('PERIODS', [0.110584, 0.13956])
     """
     run_ = _Run(scene, options)
     reason, detail = None, ""
