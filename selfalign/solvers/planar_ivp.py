@@ -12,6 +12,11 @@ integrated one smooth piece at a time in the current mode:
 A piece ends at a profile switch (``PlanarProfile.switch_times``: y'' jumps or bends there), at the
 period end, or at a terminal event located by solve_ivp:
 
+* the speed falling to the floor V_f = SPEED_TOLERANCES (atol + rtol V) (V = max|Y''| dt + |v0|, the
+  run's speed scale), taken for v = 0: in a planar stop the direction of v turns at a rate
+  |F| sin(angle to F) / |v|, which grows without bound as |v| -> 0, and an explicit integrator's steps
+  shrink with |v| short of the stop (tens of thousands of rejected steps without reaching it).  The
+  stop is then early by about V_f / (mu_bar - |F|) in time and V_f^2 in position;
 * the speed reaching 0.  |v| has no sign change there, so the event function is v . d with d the
   direction of the driving force F = -Y'' (d = F / |F|; on a piece with Y'' = 0, d = the direction of v
   at the piece's start, which friction alone does not turn).  With F constant on the piece,
@@ -322,7 +327,9 @@ class _Run:
         if self.fresh_sign is not None or along(tau_a, y0) == 0.0:
             velocity = _from_zero(along, tau_a, 1.0 if self.fresh_sign is None else self.fresh_sign)
         # Two function objects: solve_ivp reads the direction off each.
-        events = [_event(lambda t, y: velocity(t, y), -1.0), _event(lambda t, y: velocity(t, y), 1.0)]
+        floor = self.speed_tol
+        events = [_event(lambda t, y: velocity(t, y), -1.0), _event(lambda t, y: velocity(t, y), 1.0),
+                  _event(lambda t, y: math.hypot(y[2], y[3]) - floor, -1.0)]
         bounds = []
         for k, row in enumerate(rows):
             n = row[:2]
@@ -365,14 +372,14 @@ class _Run:
             self.finish_piece(tau_b)
             return None
         self.set_time(t_end)
-        if which < 2:
+        if which < 3:
             speed = float(np.hypot(*self.v))
-            if speed <= self.speed_tol or (which == 0 and self.piecewise):
+            if which == 2 or speed <= self.speed_tol or (which == 0 and self.piecewise):
                 return self.stop()
             self.fresh_sign = 1.0 if which == 1 else -1.0        # v turned through the normal of F
             self.note()
             return None
-        n, b, k, end = bounds[which - 2]
+        n, b, k, end = bounds[which - 3]
         self.x = self.x + (b - float(n @ self.x)) * n
         self.on_boundary = (k, end)
         self.counts["crossings"] += 1
