@@ -19,6 +19,7 @@ import tempfile
 import time
 from pathlib import Path
 
+import mujoco_planar
 import numpy as np
 import reference
 import siconos_parts
@@ -364,6 +365,7 @@ def run(repo: Path | None = None, tiny: bool = False, cores: int = 2, figure: Pa
               "fig17": fig17_sweep(*fig17),
               "design": design_answer(repeat=1, families=["three_phase"]) if tiny else design_answer(),
               "siconos_parts": siconos_work_precision(tiny, figure),
+              "mujoco_planar": mujoco_planar.work_precision(tiny),
               "pipeline": full_pipeline(repo, cores) if repo is not None else None}
     report["max_rss_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     return report
@@ -415,6 +417,7 @@ def format_table(report: dict) -> str:
                  f"{d['command_s']:.1f} s; `sa.design` in a warm process {d['warm_s']:.2f} s; design found: "
                  f"{d['found']} |")
     lines += _siconos_rows(report["siconos_parts"])
+    lines += _mujoco_rows(report["mujoco_planar"])
     p = report["pipeline"]
     if p is not None:
         lines.append(f"| full pipeline `snakemake -c{p['cores']}`, clean results/ | {p['seconds']:.1f} s, "
@@ -447,4 +450,21 @@ def _siconos_rows(s: dict) -> list[str]:
                          f"{ratios[n]['cpu_ratio']:.0f}x, error {ratios[n]['error_ratio']:.3f} |")
     where = f"`{s['figure']}`" if s["figure"] else "figure (not drawn)"
     lines.append(f"| {where} | {s['caption']} |")
+    return lines
+
+
+def _mujoco_rows(m: dict) -> list[str]:
+    """The rows of ``mujoco_planar.work_precision``: per scene and MuJoCo setting its errors against the exact
+    planar solver, its creep per period and its CPU time beside Moreau's and the exact solver's; or why it was
+    skipped (docs/explanation/mujoco-planar.md)."""
+    if "skipped" in m:
+        return [f"| planar motion against MuJoCo | skipped: {m['skipped']} |"]
+    lines = []
+    for r in m["rows"]:
+        mj, mo = r["mujoco"], r["moreau"]
+        lines.append(f"| planar `{r['scene']}` against MuJoCo {m['mujoco_version']}, {r['setting']} settings, "
+                     f"h = {r['h']:.1e}, {r['periods']} periods | MuJoCo: end error {mj['end_error']:.2e}, drift "
+                     f"error {mj['drift_error']:.2e}, creep {mj['creep_per_period']:.2e} per period, "
+                     f"{mj['cpu']:.3f} s; Moreau (same h): end error {mo['end_error']:.2e}, {mo['cpu']:.4f} s; exact "
+                     f"{r['exact']['cpu']:.4f} s; MuJoCo / Moreau CPU {r['cpu_ratio_mujoco_to_moreau']:.0f}x |")
     return lines
