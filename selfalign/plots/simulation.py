@@ -10,9 +10,12 @@ files; only the object-oriented matplotlib API is used (headless).
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from ..io.simulation_result import scene_from_result, trajectory_from_result
+from ..model.planar import PlanarProfile
 from ..model.scene import Scene
 from ..solvers.outcomes import EventKind
 from .profile import mark_times
@@ -30,7 +33,18 @@ FRICTION_BOUND_STYLE = {"color": "tab:red", "linestyle": "--", "linewidth": 0.8}
 
 
 def _profile_text(scene: Scene) -> str:
-    p = scene.profile.params()
+    return _motion_text(scene.profile)
+
+
+def _motion_text(profile) -> str:
+    """The parameters of a table motion in a figure's words (a planar one: its components, lag and angle)."""
+    if isinstance(profile, PlanarProfile):
+        parts = [f"x: {_motion_text(profile.x)}"]
+        if profile.y is not None:
+            parts.append(("y: the same" if profile.y == profile.x else f"y: {_motion_text(profile.y)}")
+                         + f", {profile.offset:g} period later")
+        return "; ".join(parts) + (f"; turned {math.degrees(profile.angle):.3g} deg" if profile.angle else "")
+    p = profile.params()
     if p["kind"] == "three_phase":
         return (rf"$\Delta t$ = {p['dt']:g}, $\Delta y$ = {p['dy']:g}, "
                 rf"$y_2''$ = {p['y2']:g}, $y_3''$ = {p['y3']:g}")
@@ -298,9 +312,14 @@ def _study_title(scene: Scene) -> str:
     """What a work-precision study simulates, in physical terms (two lines): the parts (several, with
     their restitution), the surface, each effect beyond the paper's model (friction law, finite jerk)
     with its size, the horizon, the profile."""
-    surface = scene.surface.params()
-    where = ("uniform friction" if surface["kind"] == "uniform" else
-             rf"stop zone at $x_\mu$ = {surface['x_mu']:g}, $c_\mu$ = {surface['c_mu']:g}")
+    if scene.planar:
+        where = "planar motion, " + (", ".join(
+            rf"strip $n$ = ({s.normal[0]:.3g}, {s.normal[1]:.3g}) at $x_\mu$ = {s.x_mu:g}, $c_\mu$ = {s.c_mu:g}"
+            for s in scene.strips) or "uniform friction")
+    else:
+        surface = scene.surface.params()
+        where = ("uniform friction" if surface["kind"] == "uniform" else
+                 rf"stop zone at $x_\mu$ = {surface['x_mu']:g}, $c_\mu$ = {surface['c_mu']:g}")
     if scene.parts is not None:
         where = f"{len(scene.parts)} parts, e = {scene.restitution:g}, {where}"
     law = scene.friction.params()
@@ -320,7 +339,8 @@ def figure_accuracy_cost(results: list[dict]):
 
     The results are all of one part or all of several parts (figure ``accuracy_parts``): solve_ivp
     cannot simulate several parts, so their studies have no ivp runs (the panel says so) and their
-    errors are the largest over the parts (the panel says over how many)."""
+    errors are the largest over the parts (the panel says over how many).  Planar studies (figure
+    ``accuracy_planar``) have ivp runs and their errors are the largest over the two coordinates."""
     from matplotlib.figure import Figure
 
     studies = []
@@ -331,7 +351,8 @@ def figure_accuracy_cost(results: list[dict]):
             "title": _study_title(scene_from_result(result))
                      + ("" if a["reference"] == "exact" else f"\nreference: {a['reference']}"),
             "target_error": a["target_error"], "moreau_order": a["moreau_order"],
-            "note": "" if a["parts"] == 1 else f"errors: largest of {a['parts']} parts\nsolve_ivp: not run",
+            "note": ("errors: largest of 2 coordinates" if a.get("planar") else
+                     "" if a["parts"] == 1 else f"errors: largest of {a['parts']} parts\nsolve_ivp: not run"),
             "rounding_level_position": a["rounding_level_position"],
             "rounding_level_vbar": a["rounding_level_vbar"],
             **{method: g[method]["datasets"] for method in RUN_SETTING if method in g},

@@ -63,6 +63,7 @@ FIGURES = {
     "fig18": lambda results: figure_18(*results),
     "accuracy_cost": figure_accuracy_cost,
     "accuracy_parts": figure_accuracy_cost,  # the scenes with several parts
+    "accuracy_planar": figure_accuracy_cost,  # the scenes of planar motion
     "static_friction": lambda results: figure_static_friction(*results),
     "stribeck_friction": lambda results: figure_stribeck_friction(*results),
     "finite_jerk": lambda results: finite_jerk_figure(*grids_from_result(*results)),

@@ -17,6 +17,8 @@ PORTRAITS = ACCUMULATION["portraits"]["settings"]
 
 #: The accuracy scenes with several parts: their studies go to figure accuracy_parts.
 ACCURACY_PARTS = [n for n in scenes("accuracy") if SCENES[n].parts is not None]
+#: The accuracy scenes of planar motion: their studies go to figure accuracy_planar.
+ACCURACY_PLANAR = [n for n in scenes("accuracy") if SCENES[n].planar]
 
 #: name -> (report category, input result files, options of selfalign.stages.figures.draw)
 FIGURES = {
@@ -40,11 +42,13 @@ FIGURES = {
     # Fig. 17 marks the setting of Fig. 18, read from its result.
     "fig17": (ACCUMULATION_FIGURES, [results("accumulation", "fig17"), results("accumulation", "fig18")], {}),
     "fig18": (ACCUMULATION_FIGURES, [results("accumulation", "fig18")], {}),
-    "accuracy_cost": (SOLVER_FIGURES, [results("accuracy", n) for n in scenes("accuracy") if n not in ACCURACY_PARTS],
-                      {}),
-    # The accuracy scenes with several parts (no solve_ivp), in a figure of their own.
+    "accuracy_cost": (SOLVER_FIGURES, [results("accuracy", n) for n in scenes("accuracy")
+                                       if n not in ACCURACY_PARTS + ACCURACY_PLANAR], {}),
+    # The accuracy scenes with several parts (no solve_ivp) and of planar motion, in figures of their own.
     **({"accuracy_parts": (SOLVER_FIGURES, [results("accuracy", n) for n in ACCURACY_PARTS], {})}
        if ACCURACY_PARTS else {}),
+    **({"accuracy_planar": (SOLVER_FIGURES, [results("accuracy", n) for n in ACCURACY_PLANAR], {})}
+       if ACCURACY_PLANAR else {}),
     "static_friction": (EFFECT_FIGURES, [results("effects", "static_friction")], {}),
     "stribeck_friction": (EFFECT_FIGURES, [results("effects", "stribeck")], {}),
     "finite_jerk": (EFFECT_FIGURES, [results("finite_jerk", "finite_jerk")], {}),
