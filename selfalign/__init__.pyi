@@ -12,6 +12,15 @@ from .analysis.lyapunov import lyapunov_trace as lyapunov_trace
 from .analysis.optimal_motion import OptimalProfile as OptimalProfile
 from .analysis.optimal_motion import optimal_profile as optimal_profile
 from .analysis.optimal_motion import optimal_vbar as optimal_vbar
+from .analysis.planar_alignment import CornerAlignment as CornerAlignment
+from .analysis.planar_alignment import LineAlignment as LineAlignment
+from .analysis.planar_alignment import corner_alignment as corner_alignment
+from .analysis.planar_alignment import line_alignment as line_alignment
+from .analysis.planar_drift import DriftMap as DriftMap
+from .analysis.planar_drift import SteadyDrift as SteadyDrift
+from .analysis.planar_drift import drift_map as drift_map
+from .analysis.planar_drift import high_acceleration_drift as high_acceleration_drift
+from .analysis.planar_drift import steady_drift as steady_drift
 from .analysis.positioning import Positioning as Positioning
 from .analysis.positioning import positioning as positioning
 from .analysis.steady_state import SteadyState as SteadyState

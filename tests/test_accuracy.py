@@ -306,8 +306,8 @@ def test_planar_study_runs_every_method_and_takes_the_largest_coordinate_error(p
     over the pipeline's 21 grids), solve_ivp's error stays within 10 rtol (measured at most 5.1 rtol, at rtol 1e-3
     on the strip, over the pipeline's rtol 1e-3 ... 1e-11) and falls below 1e-7 at rtol 1e-8 (at rtol 1e-4 on the
     strip its steps shrink at a stop in the transition and it ends with an error status, a known limit of
-    docs/explanation/planar-model.md; from rtol 1e-6 on every run reaches the horizon); the stored error is the larger over the two coordinates,
-    recomputed here exactly, and the attribute planar says so."""
+    docs/explanation/planar-model.md; from rtol 1e-6 on every run reaches the horizon); the stored error is the
+    larger over the two coordinates, recomputed here exactly, and the attribute planar says so."""
     _, attrs, groups = planar_studies[name]
     assert attrs["planar"] is True and attrs["parts"] == 1 and len(attrs["x_ref_end"]) == 2
     assert 0.8 <= attrs["moreau_order"] <= 1.25, attrs["moreau_order"]
