@@ -80,6 +80,8 @@ WARMUPS: dict[str, tuple[str, Callable[[], object]]] = {
                       lambda: simulate(_planar(), method="moreau", steps_per_period=20)),
     "planar_exact": ("the exact planar solver, piecewise-constant motions on a uniform surface",
                      lambda: simulate(_planar().replace(surface=Uniform()), method="exact")),
+    "planar_general": ("the exact planar solver's general stepper (strips, smooth motions)",
+                       lambda: simulate(_planar(), method="exact")),
 }
 
 
