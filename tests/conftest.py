@@ -134,8 +134,9 @@ def small_config(repo: Path) -> dict:
         return {"from": lo, "to": hi, "count": count, "scale": "linear"}
 
     # Trajectory and simulation scenes (milliseconds each) stay: the figures read them.
-    # One accuracy scene of one part and one of several parts (figures accuracy_cost and accuracy_parts).
-    s["accuracy"].update(scenes=["accuracy_steady", "accuracy_parts_zone"], fit_min_steps_per_period=10,
+    # One accuracy scene of one part, one of several parts and one of planar motion (figures accuracy_cost,
+    # accuracy_parts and accuracy_planar).
+    s["accuracy"].update(scenes=["accuracy_steady", "accuracy_parts_zone", "accuracy_planar"], fit_min_steps_per_period=10,
                          min_timing=0.001, moreau_steps_per_period={"from": 10, "to": 1000, "count": 3, "scale": "log"},
                          ivp_rtol={"from": 1.0e-3, "to": 1.0e-5, "count": 2, "scale": "log"})
     s["stability"].update(scenes=["fig09_case1"], moreau_steps=[100], moreau_eps=[1.0e-3])

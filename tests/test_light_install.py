@@ -121,11 +121,13 @@ def requirement_names(project, group):
 
 def test_core_dependencies_leave_the_extras_out(repo):
     """pyproject's core dependencies name no library of the plots, rerun and workflow extras, the
-    workflow extra brings what its scripts need (matplotlib, rerun) and `test` brings every extra."""
+    workflow extra brings what its scripts need (matplotlib, rerun) and `test` brings every extra but `bench` (the
+    benchmark-only peers, which CI installs on its own)."""
     project = tomllib.loads((repo / "pyproject.toml").read_text())["project"]
     core = requirement_names(project, None)
     extras = {name: requirement_names(project, name) - core for name in ("plots", "rerun", "workflow")}
     assert extras["plots"] == {"matplotlib"} and extras["rerun"] == {"rerun-sdk"}
     assert {"snakemake", "snakemake-executor-plugin-slurm", "matplotlib", "rerun-sdk"} <= extras["workflow"]
-    everything = set().union(*(requirement_names(project, name) for name in project["optional-dependencies"]))
+    everything = set().union(*(requirement_names(project, name) for name in project["optional-dependencies"]
+                               if name != "bench"))
     assert requirement_names(project, "test") == everything

@@ -117,7 +117,10 @@ def test_benchmarks_run_tiny_structure():
     s = report["siconos_parts"]
     siconos = 1 if "skipped" in s else 1 + sum(1 + len({r["steps_per_period"] for r in scene["rows"]})
                                                for scene in s["scenes"].values())
-    assert table.count("\n| ") == 2 + 1 + 2 + 3 + 1 + 1 + 1 + 1 + 1 + siconos + 1  # header, separator, one per row
+    # Against MuJoCo (planar motion): a row per scene and setting, or one row saying why not.
+    m = report["mujoco_planar"]
+    mujoco = 1 if "skipped" in m else len(m["rows"])
+    assert table.count("\n| ") == 2 + 1 + 2 + 3 + 1 + 1 + 1 + 1 + 1 + siconos + mujoco + 1  # header, separator, rows
     json.dumps(report)  # the raw numbers are JSON as written by the workflow
 
 
