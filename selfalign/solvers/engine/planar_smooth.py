@@ -131,10 +131,11 @@ STOP_FLOOR = 2.0**-40
 #: by about |v| |(Y''/|Y''|)'| / |Y''| radians, which relaxes at the rate |Y''| / |v|, a stiff mode an explicit
 #: method could follow only with steps below ~|v| / |Y''|.  The slip leaves the slaved form for the full equation
 #: once that lag would exceed SLAVED_LAG (a velocity error of at most SLAVED_LAG |v| there), where |Y''| falls
-#: below mu_bar / 2, or where v is no longer along -Y'' to SLAVED_LAG (the sine of their angle: a switch turns
-#: Y'', and the slip then goes on from the velocity it has).  While slaved, a step starts with v put back on that
-#: direction (a change of at most SLAVED_LAG |v|: it drifts off by the step's integration error only).
-SLAVED_LAG = 1.0e-9
+#: below mu_bar / 2 or turns away from -v (the cosine of their angle below SLAVED_ALIGNED), and at a switch where
+#: v is no longer along the new -Y'' to SLAVED_LAG (the sine of their angle: Y'' jumps there, and the slip goes on
+#: from the velocity it has).  While slaved, a step starts with v put back on that direction (it drifts off by
+#: the step's integration error only).
+SLAVED_LAG, SLAVED_ALIGNED = 1.0e-9, 0.5
 #: Rejected tries of one step after which the run ends with STALL (a step that shrinks without end).
 MAX_REJECTS = 200
 #: Event functions (:func:`_event_value`): a strip boundary, the equality of two strips' coefficients, |Y''|^2
@@ -387,8 +388,7 @@ def _slip_step(rows, piece, strips, q, tau, end, y, u, slaved, h, y1, tmp, k, si
     mu = planar_coefficient(y[0], y[1], strips)
     size = math.hypot(ax, ay)
     if slaved and (rho * abs(jx * ay - jy * ax) > SLAVED_LAG * size ** 3 or not size > 0.5 * mu
-                   or rho > 0.0 and (abs(y[2] * ay - y[3] * ax) > SLAVED_LAG * rho * size
-                                     or not -(y[2] * ax + y[3] * ay) > 0.0)):
+                   or not -(y[2] * ax + y[3] * ay) >= SLAVED_ALIGNED * rho * size):
         slaved = False
     elif slaved and rho > 0.0:              # on the slaved direction (it drifts off by the integration error only)
         y[2], y[3] = -rho * ax / size, -rho * ay / size
@@ -633,6 +633,9 @@ def run_planar_smooth(rows, pieces, strips, q, f, c, samples, log):
                 tau = 0.0
             else:
                 tau = pieces[nxt, PIECE_START]
+            if slaved and mode == 1:               # Y'' may jump here: slaved on only if v is along the new -Y''
+                ax, ay, _, _ = table_acceleration(rows, pieces[nxt], q, tau)
+                slaved = abs(y[2] * ay - y[3] * ax) <= SLAVED_LAG * math.hypot(y[2], y[3]) * math.hypot(ax, ay)
             if pieces[nxt, PIECE_X] != piece[PIECE_X] or pieces[nxt, PIECE_Y] != piece[PIECE_Y]:
                 c[GI_BREAKS] += 1
                 if record_log:
