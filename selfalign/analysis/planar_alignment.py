@@ -184,6 +184,30 @@ def _entries(profile, drift: SteadyDrift, surface, starts, method, max_periods, 
 class LineAlignment:
     """Entries onto one strip at each angle between the drift and the strip's normal (:func:`line_alignment`).
 
+    :func:`line_alignment` builds it; its constructor checks nothing.  Row i holds the k entries onto the
+    strip at ``angles[i]``, in the order of :func:`entry_starts`.  The properties ``dx_d_normal``,
+    ``dx_d_along`` and ``dx_d_slide`` give the spreads (half ranges, as Delta x_d of eq. 39) of the entries
+    that stop, and ``at_limit`` the fraction of the entries accumulated at x_stick_min (Sect. 7.3).
+
+    Parameters
+    ----------
+    angles : numpy.ndarray
+        The angles (Attributes).
+    normals : numpy.ndarray
+        The strip's normals (Attributes).
+    drift : SteadyDrift
+        The steady drift (Attributes).
+    depth, along, lateral : numpy.ndarray
+        The end positions relative to the strip (Attributes).
+    stopped, reason : numpy.ndarray
+        The outcome of every entry (Attributes).
+    start, x_end : numpy.ndarray
+        Start and end positions (Attributes).
+    stick_depth : float
+        x_stick_min - x_mu (Attributes).
+    x_mu, w, c_mu : float
+        The strip (Attributes).
+
     Attributes
     ----------
     angles : numpy.ndarray
@@ -201,14 +225,35 @@ class LineAlignment:
     lateral : numpy.ndarray
         t.p of the point p where the entry's drift line (through its start along v_bar) meets the strip's
         edge n.x = x_mu, (m, k).
-    stopped, reason : numpy.ndarray
-        As :class:`Entries`, (m, k).
-    start, x_end : numpy.ndarray
-        Start and end positions, (m, k, 2).
+    stopped : numpy.ndarray
+        The part came to rest or accumulated within ``AT_LIMIT_WIDTHS`` w of x_stick_min, (m, k).
+    reason : numpy.ndarray
+        :class:`~selfalign.Reason` code of each run, (m, k).
+    start : numpy.ndarray
+        Start positions, (m, k, 2).
+    x_end : numpy.ndarray
+        End positions, (m, k, 2).
     stick_depth : float
         x_stick_min - x_mu of eq. (41).
-    x_mu, w, c_mu : float
-        The strip.
+    x_mu : float
+        The strip's edge n.x = x_mu.
+    w : float
+        The strip's width (the body width, eq. 7).
+    c_mu : float
+        The strip's friction ratio.
+    dx_d_normal : numpy.ndarray
+        Delta x_d (eq. 39) along n at each angle, over the entries that stop, (m,).
+    dx_d_along : numpy.ndarray
+        Delta x_d along the strip at each angle: half the range of t.x_end over the entries that stop, (m,).
+    dx_d_slide : numpy.ndarray
+        Half the range of ``along`` over the entries that stop, (m,).
+    at_limit : numpy.ndarray
+        Fraction of the entries whose depth is x_stick_min within ``AT_LIMIT_WIDTHS`` w (accumulated), (m,).
+
+    Raises
+    ------
+    TypeError
+        Only if a field is missing or unknown (the dataclass constructor): the values are not checked.
 
     Examples
     --------
@@ -347,6 +392,8 @@ def line_alignment(profile: PlanarProfile, *, w: float, c_mu: float, angles, dis
     Returns
     -------
     LineAlignment
+        The end of every entry at every angle (depth along n, position along the strip, outcome), the steady
+        drift and x_stick_min - x_mu of eq. (41).
 
     Raises
     ------
@@ -409,6 +456,25 @@ def line_alignment(profile: PlanarProfile, *, w: float, c_mu: float, angles, dis
 class CornerAlignment:
     """Entries onto the corner of two strips (:func:`corner_alignment`).
 
+    :func:`corner_alignment` builds it; its constructor checks nothing.  Each part ends where one of the
+    strips holds it (``first``); the entries end at one point only if they all reach ``corner``, and
+    ``spread_radius`` measures how far the stopped entries end from it.
+
+    Parameters
+    ----------
+    strips : tuple of Strip
+        The two strips (Attributes).
+    corner : numpy.ndarray
+        The corner point (Attributes).
+    entries : Entries
+        Start and end states (Attributes).
+    first : numpy.ndarray
+        The strip that holds each part (Attributes).
+    distance_to_corner : numpy.ndarray
+        Distance of each end from the corner (Attributes).
+    stick_depth : float
+        x_stick_min - x_mu (Attributes).
+
     Attributes
     ----------
     strips : tuple of Strip
@@ -424,6 +490,13 @@ class CornerAlignment:
         |x_end - corner| of every entry, (k,).
     stick_depth : float
         x_stick_min - x_mu of eq. (41) of each strip.
+    spread_radius : float
+        The largest distance of a stopped entry's end from the corner point (NaN if none stops).
+
+    Raises
+    ------
+    TypeError
+        Only if a field is missing or unknown (the dataclass constructor): the values are not checked.
 
     Examples
     --------
@@ -473,12 +546,18 @@ def corner_alignment(profile: PlanarProfile, *, w: float, c_mu: float, half_angl
         Fractions s in [0, 1) of one period's advance.
     lateral : array_like
         Offsets across the drift.
-    method, max_periods, solver_options
-        As :func:`line_alignment`.
+    method : str, optional
+        "exact" (default), "moreau" or "ivp".
+    max_periods : int, optional
+        Horizon of each entry.  Default 2000.
+    solver_options : dict, optional
+        Options of ``method``.
 
     Returns
     -------
     CornerAlignment
+        The two strips, the point where their x_stick_min lines meet, the end of every entry, the strip
+        that holds it and its distance from that point.
 
     Raises
     ------

@@ -58,6 +58,23 @@ def _check_profile(profile) -> PlanarProfile:
 class SteadyDrift:
     """The steady motion of a part under a planar table motion (:func:`steady_drift`).
 
+    :func:`steady_drift` builds it; its constructor checks nothing.  The steady motion repeats the relative
+    velocity from period to period and advances by ``v_bar`` dt per period (eq. 10 in the plane);
+    ``speed`` and ``direction`` give v_bar in polar form.
+
+    Parameters
+    ----------
+    v_bar : numpy.ndarray
+        The mean velocity vector (Attributes).
+    v_start : numpy.ndarray
+        The relative velocity at the start of the steady period (Attributes).
+    periods : int
+        Periods simulated (Attributes).
+    converged : bool
+        Whether the steady state was reached (Attributes).
+    residual : float
+        The last change of the period-boundary velocity (Attributes).
+
     Attributes
     ----------
     v_bar : numpy.ndarray
@@ -70,6 +87,15 @@ class SteadyDrift:
         False if ``max_periods`` passed first (``v_bar`` is then that of the last period).
     residual : float
         |x'(t + dt) - x'(t)| over the last period, at the period boundaries.
+    speed : float
+        |v_bar|.
+    direction : float
+        The angle of v_bar from the x axis in radians, in (-pi, pi] (0 for v_bar = 0).
+
+    Raises
+    ------
+    TypeError
+        Only if a field is missing or unknown (the dataclass constructor): the values are not checked.
 
     Examples
     --------
@@ -127,6 +153,8 @@ def steady_drift(profile: PlanarProfile, *, method: str = "exact", tol: float = 
     Returns
     -------
     SteadyDrift
+        v_bar, the relative velocity at phase 0 of the steady period, the periods simulated, whether the
+        steady state was reached within ``max_periods`` and the last change of the boundary velocity.
 
     Raises
     ------
@@ -491,6 +519,25 @@ def harmonic_orbit(dt: float, a: float, b: float, *, offset: float = 0.25, secon
 class DriftMap:
     """v_bar over a phase offset and an amplitude of a family of table motions (:func:`drift_map`).
 
+    :func:`drift_map` builds it; its constructor checks nothing.  Row i, column j holds the steady drift
+    (:func:`steady_drift`) of the motion at ``offsets[i]`` and ``amplitudes[j]``; ``speed`` and ``direction``
+    give v_bar in polar form.
+
+    Parameters
+    ----------
+    offsets : numpy.ndarray
+        The phase offsets (Attributes).
+    amplitudes : numpy.ndarray
+        The amplitudes (Attributes).
+    v_bar : numpy.ndarray
+        The mean velocity vectors (Attributes).
+    periods : numpy.ndarray
+        Periods to the steady state (Attributes).
+    converged : numpy.ndarray
+        Whether the steady state was reached (Attributes).
+    max_acceleration : numpy.ndarray
+        max|Y''| of each motion (Attributes).
+
     Attributes
     ----------
     offsets : numpy.ndarray
@@ -505,6 +552,15 @@ class DriftMap:
         The steady state was reached, (p, a).
     max_acceleration : numpy.ndarray
         max|Y''| of each motion, (p, a).
+    speed : numpy.ndarray
+        |v_bar|, (p, a).
+    direction : numpy.ndarray
+        Angle of v_bar from the x axis in radians, (p, a).
+
+    Raises
+    ------
+    TypeError
+        Only if a field is missing or unknown (the dataclass constructor): the values are not checked.
 
     Examples
     --------
@@ -538,6 +594,9 @@ def drift_map(family: Callable[[float, float], PlanarProfile], offsets, amplitud
               tol: float = 1e-10, max_periods: int = 20_000, solver_options: dict | None = None) -> DriftMap:
     """The steady v_bar of ``family(offset, amplitude)`` over a grid of phase offsets and amplitudes.
 
+    Each motion of the grid runs :func:`steady_drift` from rest, one after the other; the map holds its
+    v_bar, the periods it took, whether it converged and the motion's max|Y''|.
+
     Parameters
     ----------
     family : callable
@@ -545,19 +604,28 @@ def drift_map(family: Callable[[float, float], PlanarProfile], offsets, amplitud
         ``lambda p, r: three_phase_pair(1.05, 0.084, 2.2, 0.9, ratio=r, offset=p)``.
     offsets, amplitudes : array_like
         The grid axes, 1-D and finite.
-    method, tol, max_periods, solver_options
-        As :func:`steady_drift`.
+    method : str, optional
+        "exact" (default), "moreau" or "ivp", as :func:`steady_drift`.
+    tol : float, optional
+        Steady-state tolerance of :func:`steady_drift`; > 0.  Default 1e-10.
+    max_periods : int, optional
+        At most this many periods per motion; >= 1.  Default 20,000.
+    solver_options : dict, optional
+        Options of ``method``.
 
     Returns
     -------
     DriftMap
+        v_bar, periods, convergence and max|Y''| over the grid, shaped (len(offsets), len(amplitudes)).
 
     Raises
     ------
     TypeError
-        If ``family`` is not callable or does not return a PlanarProfile.
+        If ``family`` is not callable or does not return a PlanarProfile, or as :func:`steady_drift`.
     ValueError
         If an axis is empty, not 1-D or not finite, or as :func:`steady_drift`.
+    RuntimeError
+        If a run ends with an error of the solver, as :func:`steady_drift`.
 
     Examples
     --------
