@@ -41,8 +41,9 @@ def _motion_text(profile) -> str:
     if isinstance(profile, PlanarProfile):
         parts = [f"x: {_motion_text(profile.x)}"]
         if profile.y is not None:
-            parts.append(("y: the same" if profile.y == profile.x else f"y: {_motion_text(profile.y)}")
-                         + f", {profile.offset:g} period later")
+            same = profile.y.params() == profile.x.params()
+            later = f", {profile.offset:g} period later"
+            parts.append(("y: the same" if same else f"y: {_motion_text(profile.y)}") + later)
         return "; ".join(parts) + (f"; turned {math.degrees(profile.angle):.3g} deg" if profile.angle else "")
     p = profile.params()
     if p["kind"] == "three_phase":
