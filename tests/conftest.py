@@ -136,7 +136,8 @@ def small_config(repo: Path) -> dict:
     # Trajectory and simulation scenes (milliseconds each) stay: the figures read them.
     # One accuracy scene of one part, one of several parts and one of planar motion (figures accuracy_cost,
     # accuracy_parts and accuracy_planar).
-    s["accuracy"].update(scenes=["accuracy_steady", "accuracy_parts_zone", "accuracy_planar"], fit_min_steps_per_period=10,
+    s["accuracy"].update(scenes=["accuracy_steady", "accuracy_parts_zone", "accuracy_planar"],
+                         fit_min_steps_per_period=10,
                          min_timing=0.001, moreau_steps_per_period={"from": 10, "to": 1000, "count": 3, "scale": "log"},
                          ivp_rtol={"from": 1.0e-3, "to": 1.0e-5, "count": 2, "scale": "log"})
     s["stability"].update(scenes=["fig09_case1"], moreau_steps=[100], moreau_eps=[1.0e-3])
@@ -176,9 +177,11 @@ def small_config(repo: Path) -> dict:
                       motion={"n": 2, "spacing": 0.05, "restitution": 0.0},
                       design={**s["parts"]["design"], "spec": s["design"]["designs"][-1], "n_max": 2,
                               "max_periods": 50})
-    # The planar study on 2 x 2 maps, two scales, two angles and a few entries.
+    # The planar study on 2 x 2 maps, two scales, two angles and a few entries, by Moreau's scheme (its own
+    # tests run the exact solvers; here the stage's rules, files and figures are checked).
     p = s["planar"]
-    p.update(offsets=2, ratios=[0.0, 0.5], harmonic_ratios=[0.0, 0.5], low_scales=[0.4],
+    p.update(method="moreau", solver_options={"steps_per_period": 500}, offsets=2, ratios=[0.0, 0.5],
+             harmonic_ratios=[0.0, 0.5], low_scales=[0.4],
              limit={**p["limit"], "scales": [8.0, 16.0]})
     p["alignment"].update(angles=[0.0, 40.0], starts=2, lateral=[0.0, 0.05],
                           corner={**p["alignment"]["corner"], "starts": 1, "lateral": [-0.1, 0.1]})
