@@ -50,8 +50,8 @@ nitpicky = True
 nitpick_ignore_regex = [
     # Internal classes that signatures and parameter types of the exported functions name: the
     # precomputed profile table simulate_batch also accepts, the design tool's grid, the profile
-    # class a finite-jerk profile builds.
-    (r"py:class", r"(selfalign(\.\w+)*\.)?(ProfileTable|DesignGrid|PiecewiseLinearProfile)"),
+    # class a finite-jerk profile builds, the entries of a planar alignment study.
+    (r"py:class", r"(selfalign(\.\w+)*\.)?(ProfileTable|DesignGrid|PiecewiseLinearProfile|Entries)"),
     (r"py:.*", r"(np|numpy|numpy\.typing|scipy|h5py|click|matplotlib|rerun|numba|collections|typing|"
                r"pathlib|os|enum|dataclasses|numbers|fractions|decimal)(\..*)?"),
     (r"py:class", r"(ndarray|ArrayLike|NDArray|Path|Axes|Figure|Callable|Iterable|Sequence|Mapping|Any|"

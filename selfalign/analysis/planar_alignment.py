@@ -7,15 +7,15 @@ A :class:`~selfalign.model.planar.Strip` is the paper's stop zone along its unit
 at rest for good where mu_bar(x) >= max|Y''| (the planar eq. 40): along n that is the depth
 x_stick_min - x_mu = w (max|Y''| - 1) / (c_mu - 1) of eq. (41), whatever the direction of Y''.
 
-* :func:`line_alignment`: entries drifting in steady state onto a strip whose normal makes an angle with the
+* :func:`~selfalign.line_alignment`: entries drifting in steady state onto a strip whose normal makes an angle with the
   drift.  Where along n and along the strip do they stop, and do their normal depths accumulate to
   x_stick_min (Sect. 7.3)?  The spread Delta x_d of eq. (39) is taken along n and along the strip.
-* :func:`corner_alignment`: entries from a band across the drift onto a corner of two strips (friction the
+* :func:`~selfalign.corner_alignment`: entries from a band across the drift onto a corner of two strips (friction the
   larger of the two): do they all end at one point?
 
 The entries follow Sect. 7.1: each starts in the steady motion (the period-boundary velocity of
 :func:`~selfalign.analysis.planar_drift.steady_drift` at phase 0), ``distance`` plus a fraction s in [0, 1)
-of one period's advance |v_bar| dt behind the strip's edge along the drift (every way of entering), and
+of one period's advance ``|v_bar|`` dt behind the strip's edge along the drift (every way of entering), and
 at a lateral offset along the strip (a band of entry lines).
 """
 
@@ -129,7 +129,7 @@ def stick_depth(max_acceleration: float, w: float, c_mu: float) -> float:
 
 @dataclass(frozen=True)
 class Entries:
-    """End states of a set of entries onto a surface of strips (:func:`line_alignment`, :func:`corner_alignment`).
+    """End states of a set of entries onto a surface of strips (``line_alignment``, ``corner_alignment``).
 
     Attributes
     ----------
@@ -182,10 +182,10 @@ def _entries(profile, drift: SteadyDrift, surface, starts, method, max_periods, 
 
 @dataclass(frozen=True)
 class LineAlignment:
-    """Entries onto one strip at each angle between the drift and the strip's normal (:func:`line_alignment`).
+    """Entries onto one strip at each angle between the drift and the strip's normal (``line_alignment``).
 
-    :func:`line_alignment` builds it; its constructor checks nothing.  Row i holds the k entries onto the
-    strip at ``angles[i]``, in the order of :func:`entry_starts`.  The properties ``dx_d_normal``,
+    :func:`~selfalign.line_alignment` builds it; its constructor checks nothing.  Row i holds the k entries onto the
+    strip at ``angles[i]``, in the order of ``entry_starts``.  The properties ``dx_d_normal``,
     ``dx_d_along`` and ``dx_d_slide`` give the spreads (half ranges, as Delta x_d of eq. 39) of the entries
     that stop, and ``at_limit`` the fraction of the entries accumulated at x_stick_min (Sect. 7.3).
 
@@ -296,7 +296,7 @@ class LineAlignment:
 
     @property
     def dx_d_along(self) -> np.ndarray:
-        """Delta x_d along the strip at each angle: half the range of t.x_end over the entries that stop, (m,)."""
+        """The positioning error along the strip at each angle, half the range of t.x_end over the stopped entries."""
         return self._half_range(np.einsum("mkj,mj->mk", self.x_end, np.stack([-self.normals[:, 1],
                                                                                 self.normals[:, 0]], axis=1)))
 
@@ -322,7 +322,7 @@ def entry_starts(direction: np.ndarray, normal: np.ndarray, advance: float, *, d
     direction, normal : array_like
         Unit vectors (2,) of the drift and of the strip's normal, with direction.normal > 0.
     advance : float
-        One period's advance |v_bar| dt; > 0.
+        One period's advance ``|v_bar|`` dt; > 0.
     distance : float
         Distance behind the edge along the drift; > 0.
     offsets : array_like
@@ -364,7 +364,7 @@ def line_alignment(profile: PlanarProfile, *, w: float, c_mu: float, angles, dis
     """Entries in steady drift onto one strip whose normal makes each of ``angles`` with the drift.
 
     The strip's normal is the drift direction turned by the angle; each entry starts as
-    :func:`entry_starts` with the steady velocity at phase 0 and runs until rest (at most ``max_periods``).
+    ``entry_starts`` with the steady velocity at phase 0 and runs until rest (at most ``max_periods``).
 
     Parameters
     ----------
@@ -377,7 +377,7 @@ def line_alignment(profile: PlanarProfile, *, w: float, c_mu: float, angles, dis
     distance : float
         Start distance behind the strip's edge along the drift; > 0.
     offsets : array_like
-        Fractions s in [0, 1) of one period's advance |v_bar| dt added to ``distance``.
+        Fractions s in [0, 1) of one period's advance ``|v_bar|`` dt added to ``distance``.
     lateral : array_like
         Offsets of the entry lines along the strip.
     x_mu : float, optional
@@ -454,9 +454,9 @@ def line_alignment(profile: PlanarProfile, *, w: float, c_mu: float, angles, dis
 
 @dataclass(frozen=True)
 class CornerAlignment:
-    """Entries onto the corner of two strips (:func:`corner_alignment`).
+    """Entries onto the corner of two strips (:func:`~selfalign.corner_alignment`).
 
-    :func:`corner_alignment` builds it; its constructor checks nothing.  Each part ends where one of the
+    :func:`~selfalign.corner_alignment` builds it; its constructor checks nothing.  Each part ends where one of the
     strips holds it (``first``); the entries end at one point only if they all reach ``corner``, and
     ``spread_radius`` measures how far the stopped entries end from it.
 
@@ -466,7 +466,7 @@ class CornerAlignment:
         The two strips (Attributes).
     corner : numpy.ndarray
         The corner point (Attributes).
-    entries : Entries
+    entries : selfalign.analysis.planar_alignment.Entries
         Start and end states (Attributes).
     first : numpy.ndarray
         The strip that holds each part (Attributes).
@@ -482,12 +482,12 @@ class CornerAlignment:
     corner : numpy.ndarray
         The point where both strips' x_stick_min lines meet, (2,): the one point every entry would have to
         reach.
-    entries : Entries
+    entries : selfalign.analysis.planar_alignment.Entries
         Start and end states.
     first : numpy.ndarray
         Index of the strip each part ends deepest in (the one that holds it), (k,).
     distance_to_corner : numpy.ndarray
-        |x_end - corner| of every entry, (k,).
+        ``|x_end - corner|`` of every entry, (k,).
     stick_depth : float
         x_stick_min - x_mu of eq. (41) of each strip.
     spread_radius : float
@@ -529,7 +529,7 @@ def corner_alignment(profile: PlanarProfile, *, w: float, c_mu: float, half_angl
 
     The strips' edges pass through the origin; the low-friction region in front of them is the wedge
     n1.x < 0 and n2.x < 0 with its apex at the origin, pointing along the drift.  mu_bar is the larger of the
-    two strips' coefficients.  The entries start ``distance`` (+ s |v_bar| dt) behind the apex along the drift,
+    two strips' coefficients.  The entries start ``distance`` (+ s ``|v_bar|`` dt) behind the apex along the drift,
     at lateral offsets across it.
 
     Parameters
@@ -564,7 +564,7 @@ def corner_alignment(profile: PlanarProfile, *, w: float, c_mu: float, half_angl
     TypeError
         If ``profile`` is not a PlanarProfile or a number is not real.
     ValueError
-        As :func:`line_alignment`, or ``half_angle`` outside (0, 1.5].
+        As :func:`~selfalign.line_alignment`, or ``half_angle`` outside (0, 1.5].
     RuntimeError
         If a run ends with an error of the solver.
 

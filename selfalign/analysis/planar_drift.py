@@ -7,15 +7,15 @@ on a uniform surface: x'' = -Y''(t) - Sign2(x'), Sign2(v) = v/|v| for v != 0 and
 (the uniqueness argument of Sect. 6.2 carries over: V = |v1 - v2|^2 / 2 never grows, because the disc's
 Sign2 is monotone) and advances by v_bar dt per period: v_bar is the planar objective of eq. (10).
 
-* :func:`steady_drift` runs from rest until the period-boundary velocity repeats to a tolerance and
+* :func:`~selfalign.steady_drift` runs from rest until the period-boundary velocity repeats to a tolerance and
   returns v_bar = (x(t + dt) - x(t)) / dt over that period, and the periods it took;
 * :func:`high_acceleration_drift` is the limit of large accelerations: the geometric median of the
-  table's velocities Y'(t) over a period, the c that minimises <|c - Y'(t)|> (the derivation is in the
+  table's velocities Y'(t) over a period, the c that minimises ``<|c - Y'(t)|>`` (the derivation is in the
   docs page: friction changes the part's absolute velocity by at most dt per period, the table's by
   order max|Y''| dt, so the part moves at a nearly constant c, and periodicity asks
   <(c - Y')/|c - Y'|> = 0, the gradient of <|c - Y'|>);
 * :func:`acceleration_limit` measures how v_bar approaches that limit as the table motion is scaled up;
-* :func:`drift_map` maps v_bar over a phase offset and an amplitude of a family of table motions;
+* :func:`~selfalign.drift_map` maps v_bar over a phase offset and an amplitude of a family of table motions;
   :func:`three_phase_pair` and :func:`harmonic_orbit` are the two families of the planar stage.
 
 Below max|Y''| <= 1 a part at rest never slips (the disc holds it): v_bar = 0 exactly.  A motion with
@@ -37,7 +37,7 @@ from ..model.profiles import FourierProfile, ThreePhaseProfile
 from ..model.scene import METHODS, Record, Scene
 from ..solvers.driver import simulate
 
-#: Periods of the first run of :func:`steady_drift`; each further run doubles the periods simulated.
+#: Periods of the first run of :func:`~selfalign.steady_drift`; each further run doubles the periods simulated.
 FIRST_PERIODS = 8
 #: Time samples per period of :func:`high_acceleration_drift` (midpoints).  Where the velocities spread over the
 #: plane the median moves smoothly with the samples; along one line it is the midpoint of the two middle samples
@@ -56,9 +56,9 @@ def _check_profile(profile) -> PlanarProfile:
 
 @dataclass(frozen=True)
 class SteadyDrift:
-    """The steady motion of a part under a planar table motion (:func:`steady_drift`).
+    """The steady motion of a part under a planar table motion (:func:`~selfalign.steady_drift`).
 
-    :func:`steady_drift` builds it; its constructor checks nothing.  The steady motion repeats the relative
+    :func:`~selfalign.steady_drift` builds it; its constructor checks nothing.  The steady motion repeats the relative
     velocity from period to period and advances by ``v_bar`` dt per period (eq. 10 in the plane);
     ``speed`` and ``direction`` give v_bar in polar form.
 
@@ -86,9 +86,9 @@ class SteadyDrift:
     converged : bool
         False if ``max_periods`` passed first (``v_bar`` is then that of the last period).
     residual : float
-        |x'(t + dt) - x'(t)| over the last period, at the period boundaries.
+        ``|x'(t + dt) - x'(t)|`` over the last period, at the period boundaries.
     speed : float
-        |v_bar|.
+        ``|v_bar|``.
     direction : float
         The angle of v_bar from the x axis in radians, in (-pi, pi] (0 for v_bar = 0).
 
@@ -114,7 +114,7 @@ class SteadyDrift:
 
     @property
     def speed(self) -> float:
-        """|v_bar|."""
+        """``|v_bar|``."""
         return float(np.hypot(*self.v_bar))
 
     @property
@@ -133,7 +133,7 @@ def steady_drift(profile: PlanarProfile, *, method: str = "exact", tol: float = 
 
     The part starts at rest at phase 0; the runs are simulated in blocks (8 periods, then twice as many
     each time, each block from the last one's end state) with the period-boundary states recorded, until
-    the boundary velocity repeats: |x'((k + 1) dt) - x'(k dt)| <= ``tol``.  Then
+    the boundary velocity repeats: ``|x'((k + 1) dt) - x'(k dt)|`` <= ``tol``.  Then
     v_bar = (x((k + 1) dt) - x(k dt)) / dt (eq. 10 in the plane) and ``periods`` = k + 1.
 
     Parameters
@@ -244,8 +244,8 @@ def high_acceleration_drift(profile: PlanarProfile, *, samples: int = MEDIAN_SAM
     """The limit of v_bar at large table accelerations: the geometric median of Y'(t) over a period.
 
     For max|Y''| >> 1 friction is a small perturbation: the part's absolute velocity stays within dt of a
-    constant c (friction changes it at rate 1), and its periodicity asks <(c - Y'(t)) / |c - Y'(t)|> = 0,
-    the gradient of <|c - Y'(t)|>: c is its minimiser, the geometric (time-weighted L1) median of the table's
+    constant c (friction changes it at rate 1), and its periodicity asks ``<(c - Y'(t)) / |c - Y'(t)|>`` = 0,
+    the gradient of ``<|c - Y'(t)|>``: c is its minimiser, the geometric (time-weighted L1) median of the table's
     velocities.  For a profile scaled by lambda, v_bar = lambda c_1 + O(1): the relative error falls as
     1 / max|Y''| (docs/explanation/planar-alignment.md).  A velocity the table keeps for at least half of
     the period (a dwell of both components) is the median: the part then sticks in the dwell.
@@ -306,7 +306,7 @@ class AccelerationLimit:
     v_limit : numpy.ndarray
         The limit :func:`high_acceleration_drift`, (n, 2).
     error : numpy.ndarray
-        |v_bar - v_limit| over max|Y'(t)| (the table's peak speed), (n,).
+        ``|v_bar - v_limit|`` over max|Y'(t)| (the table's peak speed), (n,).
     slope, constant : float
         The least-squares fit error = constant * max_acceleration**slope (the asymptotic order says slope = -1).
     periods : numpy.ndarray
@@ -372,12 +372,12 @@ def acceleration_limit(profiles, *, method: str = "exact", tol: float = 1e-10, m
         The same motion at growing amplitude (at least two), e.g. :func:`three_phase_pair` with growing
         ``scale``.
     method, tol, max_periods, solver_options
-        As :func:`steady_drift`.
+        As :func:`~selfalign.steady_drift`.
 
     Returns
     -------
     AccelerationLimit
-        The error |v_bar - c| / max|Y'| against max|Y''| and its power-law fit (slope -1 by the
+        The error ``|v_bar - c|`` / max|Y'| against max|Y''| and its power-law fit (slope -1 by the
         derivation: the error of the limit is of order 1 in velocity while the table's speed grows).
 
     Raises
@@ -386,7 +386,7 @@ def acceleration_limit(profiles, *, method: str = "exact", tol: float = 1e-10, m
         If a profile is not a PlanarProfile.
     ValueError
         If fewer than two profiles are given, or a limit is met exactly (a zero error has no power law),
-        or as :func:`steady_drift`.
+        or as :func:`~selfalign.steady_drift`.
 
     Examples
     --------
@@ -517,10 +517,10 @@ def harmonic_orbit(dt: float, a: float, b: float, *, offset: float = 0.25, secon
 
 @dataclass(frozen=True)
 class DriftMap:
-    """v_bar over a phase offset and an amplitude of a family of table motions (:func:`drift_map`).
+    """v_bar over a phase offset and an amplitude of a family of table motions (:func:`~selfalign.drift_map`).
 
-    :func:`drift_map` builds it; its constructor checks nothing.  Row i, column j holds the steady drift
-    (:func:`steady_drift`) of the motion at ``offsets[i]`` and ``amplitudes[j]``; ``speed`` and ``direction``
+    :func:`~selfalign.drift_map` builds it; its constructor checks nothing.  Row i, column j holds the steady drift
+    (:func:`~selfalign.steady_drift`) of the motion at ``offsets[i]`` and ``amplitudes[j]``; ``speed`` and ``direction``
     give v_bar in polar form.
 
     Parameters
@@ -553,7 +553,7 @@ class DriftMap:
     max_acceleration : numpy.ndarray
         max|Y''| of each motion, (p, a).
     speed : numpy.ndarray
-        |v_bar|, (p, a).
+        ``|v_bar|``, (p, a).
     direction : numpy.ndarray
         Angle of v_bar from the x axis in radians, (p, a).
 
@@ -581,7 +581,7 @@ class DriftMap:
 
     @property
     def speed(self) -> np.ndarray:
-        """|v_bar|, (p, a)."""
+        """``|v_bar|``, (p, a)."""
         return np.hypot(self.v_bar[..., 0], self.v_bar[..., 1])
 
     @property
@@ -594,8 +594,8 @@ def drift_map(family: Callable[[float, float], PlanarProfile], offsets, amplitud
               tol: float = 1e-10, max_periods: int = 20_000, solver_options: dict | None = None) -> DriftMap:
     """The steady v_bar of ``family(offset, amplitude)`` over a grid of phase offsets and amplitudes.
 
-    Each motion of the grid runs :func:`steady_drift` from rest, one after the other; the map holds its
-    v_bar, the periods it took, whether it converged and the motion's max|Y''|.
+    Each motion of the grid runs :func:`~selfalign.steady_drift` from rest, one after the other; the map holds its
+    v_bar, the periods it took, whether it converged and the motion's largest table acceleration.
 
     Parameters
     ----------
@@ -605,9 +605,9 @@ def drift_map(family: Callable[[float, float], PlanarProfile], offsets, amplitud
     offsets, amplitudes : array_like
         The grid axes, 1-D and finite.
     method : str, optional
-        "exact" (default), "moreau" or "ivp", as :func:`steady_drift`.
+        "exact" (default), "moreau" or "ivp", as :func:`~selfalign.steady_drift`.
     tol : float, optional
-        Steady-state tolerance of :func:`steady_drift`; > 0.  Default 1e-10.
+        Steady-state tolerance of :func:`~selfalign.steady_drift`; > 0.  Default 1e-10.
     max_periods : int, optional
         At most this many periods per motion; >= 1.  Default 20,000.
     solver_options : dict, optional
@@ -621,11 +621,11 @@ def drift_map(family: Callable[[float, float], PlanarProfile], offsets, amplitud
     Raises
     ------
     TypeError
-        If ``family`` is not callable or does not return a PlanarProfile, or as :func:`steady_drift`.
+        If ``family`` is not callable or does not return a PlanarProfile, or as :func:`~selfalign.steady_drift`.
     ValueError
-        If an axis is empty, not 1-D or not finite, or as :func:`steady_drift`.
+        If an axis is empty, not 1-D or not finite, or as :func:`~selfalign.steady_drift`.
     RuntimeError
-        If a run ends with an error of the solver, as :func:`steady_drift`.
+        If a run ends with an error of the solver, as :func:`~selfalign.steady_drift`.
 
     Examples
     --------

@@ -67,9 +67,9 @@ class Strip:
 
     Parameters
     ----------
-    normal : pair of float
+    normal : tuple of float
         The unit normal n = (nx, ny), pointing into the high friction; its length must be 1 to
-        1e-12 (:data:`NORMAL_TOL`); it is stored normalised.
+        1e-12 (``NORMAL_TOL``); it is stored normalised.
     x_mu : float
         Where the transition starts, as a distance along n from the origin; as for ``StopZone``.
     w : float
@@ -208,7 +208,7 @@ class PlanarProfile:
     """The motion of a table in the plane: two periodic profiles of one period, one per axis.
 
     Y(t) = R(angle) (P_x(t), P_y(t - offset dt)): the y motion lags the x motion by ``offset``
-    periods, and the pair is turned by ``angle`` (R the rotation, :func:`rotation`).  With
+    periods, and the pair is turned by ``angle`` (R the rotation).  With
     ``y=None`` the table moves along one line, at ``angle`` to the first axis.  Any profile of the
     1-D model serves as a component (three-phase, piecewise-constant, polynomial, finite jerk,
     Fourier); an elliptical orbit is two harmonic profiles a quarter period apart.

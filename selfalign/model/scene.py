@@ -133,10 +133,10 @@ class Scene:
     friction : FrictionLaw, optional
         The friction law (``selfalign.model.friction.FrictionLaw``): the paper's Coulomb
         friction by default, or static/kinetic or Stribeck friction.
-    x0 : float or pair of float, optional
+    x0 : float or tuple of float, optional
         Relative position at time ``phase * dt``; finite; a pair (x, y) in a planar scene (stored as a
         tuple; 0 stands for (0, 0)).  Default 0.
-    v0 : float or pair of float, optional
+    v0 : float or tuple of float, optional
         Relative velocity x' at time ``phase * dt``; finite; a pair in a planar scene.  Default 0.
     phase : float, optional
         Start time as a fraction of the period, in [0, 1).  Default 0.
