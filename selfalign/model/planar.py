@@ -233,7 +233,7 @@ class PlanarProfile:
     switch_times : numpy.ndarray
         The times within (0, dt) where either component's y'' switches or bends (sorted, unique).
     max_abs_acceleration : float
-        The largest |Y''(t)| over the period: exact for piecewise-constant and piecewise-linear components,
+        The largest ``|Y''(t)|`` over the period: exact for piecewise-constant and piecewise-linear components,
         to ~1e-15 relative for Fourier ones (a grid and golden-section search).
     kind : str
         ``"planar"``, the profile kind of scene files.
