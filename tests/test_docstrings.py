@@ -22,8 +22,8 @@ import selfalign
 EXPORTED = sorted(selfalign._EXPORTS)
 #: Result records the library builds: their constructors take fields and check nothing, so their
 #: docstrings need no Raises section.
-RESULTS = {"BatchResult", "Design", "FloquetResult", "LyapunovTrace", "OptimalProfile", "Positioning", "SteadyState",
-           "Trajectory"}
+RESULTS = {"BatchResult", "CornerAlignment", "Design", "DriftMap", "FloquetResult", "LineAlignment", "LyapunovTrace",
+           "OptimalProfile", "Positioning", "SteadyDrift", "SteadyState", "Trajectory"}
 #: numpydoc validation checks every exported docstring passes (numpydoc.validate.ERROR_MSGS).
 #: Left out: SS02, PR08 and RT04 (a summary or description may start with a symbol, e.g.
 #: "x_{n+1}" or "``x0``"), SS05 (a summary may say what a function returns rather than start

@@ -250,11 +250,6 @@ class LineAlignment:
     at_limit : numpy.ndarray
         Fraction of the entries whose depth is x_stick_min within ``AT_LIMIT_WIDTHS`` w (accumulated), (m,).
 
-    Raises
-    ------
-    TypeError
-        Only if a field is missing or unknown (the dataclass constructor): the values are not checked.
-
     Examples
     --------
     >>> import numpy as np
@@ -492,11 +487,6 @@ class CornerAlignment:
         x_stick_min - x_mu of eq. (41) of each strip.
     spread_radius : float
         The largest distance of a stopped entry's end from the corner point (NaN if none stops).
-
-    Raises
-    ------
-    TypeError
-        Only if a field is missing or unknown (the dataclass constructor): the values are not checked.
 
     Examples
     --------

@@ -92,11 +92,6 @@ class SteadyDrift:
     direction : float
         The angle of v_bar from the x axis in radians, in (-pi, pi] (0 for v_bar = 0).
 
-    Raises
-    ------
-    TypeError
-        Only if a field is missing or unknown (the dataclass constructor): the values are not checked.
-
     Examples
     --------
     >>> import numpy as np
@@ -556,11 +551,6 @@ class DriftMap:
         ``|v_bar|``, (p, a).
     direction : numpy.ndarray
         Angle of v_bar from the x axis in radians, (p, a).
-
-    Raises
-    ------
-    TypeError
-        Only if a field is missing or unknown (the dataclass constructor): the values are not checked.
 
     Examples
     --------
