@@ -10,7 +10,8 @@ and the closed-form arcs per second (best of three, after a first call that comp
 from __future__ import annotations
 
 import sys
-import time
+
+from parts_moreau import best_time
 
 import selfalign as sa
 from selfalign.solvers import planar_exact
@@ -18,16 +19,6 @@ from selfalign.solvers import planar_exact
 PROFILE = sa.ThreePhaseProfile(dt=1.05, dy=0.084, y2=2.2, y3=0.9)
 SECOND = sa.ThreePhaseProfile(dt=1.05, dy=0.05, y2=1.8, y3=1.1)
 OPTIONS = {"max_events": 50_000_000}
-
-
-def best_time(func, repeat: int = 3) -> float:
-    """The shortest wall time of ``repeat`` calls of ``func``."""
-    times = []
-    for _ in range(repeat):
-        start = time.perf_counter()
-        func()
-        times.append(time.perf_counter() - start)
-    return min(times)
 
 
 def throughput(profile, periods: int) -> dict:
