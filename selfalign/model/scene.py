@@ -285,9 +285,9 @@ class Scene:
         if isinstance(self.surface, StopZone):
             raise SceneError("surface: a planar scene takes strips, not a StopZone: Strip(normal=(1, 0), x_mu, w, "
                              "c_mu) is the stop zone along the first axis")
-        object.__setattr__(self, "surface", self.surface if isinstance(self.surface, (Uniform, Strip))
-                           else check_strips(self.surface))
-        check_strips(self.surface)
+        strips = check_strips(self.surface)
+        if not isinstance(self.surface, (Uniform, Strip)):
+            object.__setattr__(self, "surface", strips)
         for key in ("x0", "v0"):
             value = getattr(self, key)
             try:
