@@ -109,8 +109,8 @@ def test_rest_scene_samples_one_period(repo):
 def set_figure_formats(workdir, formats: str):
     config = workdir / "workflow/config/config.yaml"
     text = config.read_text()
-    assert "formats: [png]" in text
-    config.write_text(text.replace("formats: [png]", f"formats: {formats}"))
+    assert "formats: [png, pdf]" in text
+    config.write_text(text.replace("formats: [png, pdf]", f"formats: {formats}"))
 
 
 def test_figure_formats_plan_one_file_per_format(workdir):
@@ -134,12 +134,11 @@ def test_unknown_figure_format_is_rejected(workdir):
 def test_figure_files_are_reproducible_in_every_format(tmp_path, fmt, magic):
     """save_figure writes the format of the suffix, and the same drawing twice gives the same bytes
     (no dates or versions in the metadata, constant SVG ids)."""
-    from matplotlib.figure import Figure
-
+    from selfalign.plots.style import new_figure
     from selfalign.stages.common import save_figure
 
     def drawing():
-        fig = Figure(figsize=(2, 2))
+        fig = new_figure("single", 40)
         fig.subplots().plot([0, 1], [1, 0], label="line")
         return fig
 
@@ -148,9 +147,24 @@ def test_figure_files_are_reproducible_in_every_format(tmp_path, fmt, magic):
 
 
 def test_save_figure_rejects_an_unknown_format(tmp_path):
+    from selfalign.plots.style import new_figure
+    from selfalign.stages.common import save_figure
+
+    with pytest.raises(ValueError, match="jpg"):
+        save_figure(new_figure("single", 40), tmp_path / "f.jpg")
+
+
+def test_save_figure_refuses_a_figure_off_the_print_standard(tmp_path):
+    """A figure wider than two columns, with 6-pt text or a title, is refused before a file is
+    written, with every problem named (the figure standard, selfalign.plots.style)."""
     from matplotlib.figure import Figure
 
     from selfalign.stages.common import save_figure
 
-    with pytest.raises(ValueError, match="jpg"):
-        save_figure(Figure(), tmp_path / "f.jpg")
+    fig = Figure(figsize=(8, 4))
+    ax = fig.subplots()
+    ax.set_title("a title")
+    ax.set_xlabel("x", fontsize=6)
+    with pytest.raises(ValueError, match=r"width 203.2 mm.*title 'a title'.*'x' is 6 pt"):
+        save_figure(fig, tmp_path / "f.png")
+    assert not (tmp_path / "f.png").exists()

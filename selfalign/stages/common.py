@@ -17,13 +17,22 @@ import numpy as np
 
 from ..io.hdf5 import atomic_write
 from ..plots.encode import figure_bytes
+from ..plots.style import DPI, print_check
 
 #: Resolution of figures written by :func:`save_figure` unless the workflow config says otherwise.
-DEFAULT_DPI = 150
+DEFAULT_DPI = DPI
+
 
 def save_figure(fig, path, dpi: int = DEFAULT_DPI) -> Path:
     """Write ``fig`` atomically in the format of the suffix of ``path`` (png, pdf or svg;
-    :func:`selfalign.plots.encode.figure_bytes`: the same drawing gives the same bytes)."""
+    :func:`selfalign.plots.encode.figure_bytes`: the same drawing gives the same bytes).
+
+    A figure that does not meet the figure standard (:func:`selfalign.plots.style.print_check`:
+    print width, fonts at print size, no titles but panel letters) is refused with a
+    ValueError naming every problem, before anything is written."""
+    problems = print_check(fig)
+    if problems:
+        raise ValueError(f"{Path(path).name} does not meet the figure standard: " + "; ".join(problems))
     data = figure_bytes(fig, Path(path).suffix.lstrip(".").lower(), dpi)
     return atomic_write(path, lambda tmp: Path(tmp).write_bytes(data))
 
