@@ -220,9 +220,17 @@ def setting_title(**values) -> str:
     return ", ".join(f"{SETTING_SYMBOLS[name]} = {value:g}" for name, value in values.items())
 
 
+#: The ASCII relations of the case labels (selfalign.analysis.classification.CASE_LABELS) in mathtext.
+_RELATIONS = {">=": r"\geq", "<=": r"\leq"}
+
+
 def case_label(case: int) -> str:
-    """The tick of ``case`` on a case colour bar, e.g. "1 stick-slip, x' >= 0"."""
-    return f"{case} {CASE_LABELS[case]}"
+    """The tick of ``case`` on a case colour bar, its label of Table 1 in mathtext, e.g.
+    "1 stick-slip, $x' \\geq 0$"."""
+    label = CASE_LABELS[case]
+    for ascii_relation, tex in _RELATIONS.items():
+        label = label.replace(f"x' {ascii_relation} 0", f"$x' {tex} 0$")
+    return f"{case} {label}"
 
 
 def cell_edges(centres) -> np.ndarray:
