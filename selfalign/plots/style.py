@@ -267,12 +267,12 @@ def case_map(ax, y2, y3, case):
 
 def label_regions(ax, y2, y3, codes, labels: dict, colors: dict, min_cells: int = 6):
     """Write ``labels[code]`` on the map, once per code, at the cell deepest inside the code's
-    largest region (farthest from any other code), in black or white for contrast with
-    ``colors[code]``; codes with fewer than ``min_cells`` cells are left to the colour bar.
+    cells (the last to go when they are eroded one cell at a time, the one nearest their middle),
+    in black or white for contrast with ``colors[code]``; codes with fewer than ``min_cells``
+    cells are left to the colour bar.
 
     Returns the Text artists drawn."""
     from matplotlib.colors import to_rgb
-    from scipy import ndimage
 
     codes = np.asarray(codes, dtype=float)
     texts = []
@@ -280,11 +280,15 @@ def label_regions(ax, y2, y3, codes, labels: dict, colors: dict, min_cells: int 
         inside = codes == code
         if np.count_nonzero(inside) < min_cells:
             continue
-        regions, n = ndimage.label(inside)
-        sizes = ndimage.sum_labels(inside, regions, index=np.arange(1, n + 1))
-        largest = regions == 1 + int(np.argmax(sizes))
-        depth = ndimage.distance_transform_edt(np.pad(largest, 1))[1:-1, 1:-1]
-        i, j = np.unravel_index(int(np.argmax(depth)), depth.shape)
+        while True:
+            # Erode by one cell (four neighbours; the edge of the map erodes too, keeping labels off it).
+            padded = np.pad(inside, 1)
+            core = inside & padded[:-2, 1:-1] & padded[2:, 1:-1] & padded[1:-1, :-2] & padded[1:-1, 2:]
+            if not core.any():
+                break
+            inside = core
+        cells = np.argwhere(inside)
+        i, j = cells[np.argmin(np.sum((cells - cells.mean(axis=0)) ** 2, axis=1))]
         r, g, b = to_rgb(colors[code])
         ink = "k" if 0.299 * r + 0.587 * g + 0.114 * b > 0.5 else "w"
         texts.append(ax.text(y2[i], y3[j], label, ha="center", va="center", color=ink,
