@@ -172,10 +172,32 @@ def end_position_region(ax, s, overshoot, x_mu, x_stick_min, dx_d, x_d):
 def stick_distances(ax, sequences, x_stick_min):
     """|x_n - x_stick_min| of stick sequences against the stick number n, on a log scale, so
     that accumulation (distances shrinking geometrically, a straight line) is visible on every
-    scale.  ``sequences``: (label, positions, colour, line style).  Downward triangles: sticks
-    short of x_stick_min, where the mass slips on; upward: past it, where it sticks for good.
-    x_stick_min itself (distance 0, reached as t -> oo) lies below every scale.  Returns the
-    legend handles of the two triangles."""
+    scale.
+
+    Downward triangles: sticks short of x_stick_min, where the mass slips on; upward: past it,
+    where it sticks for good.  x_stick_min itself (distance 0, reached as t -> oo) lies below
+    every scale.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+    sequences : iterable of (str, array_like, str, str)
+        (label, stick positions, colour, line style) of each sequence.
+    x_stick_min : float
+        Where permanent stick becomes possible (eq. 41).
+
+    Returns
+    -------
+    list of matplotlib.lines.Line2D
+        Legend handles of the two triangles.
+
+    Examples
+    --------
+    >>> ax = new_figure("single", 50).subplots()
+    >>> handles = stick_distances(ax, [("run", [0.03, 0.039, 0.0399], "k", "-")], 0.04)
+    >>> ax.get_yscale(), len(handles)
+    ('log', 2)
+    """
     for label, x, color, style in sequences:
         d = np.asarray(x, dtype=float) - x_stick_min
         n = np.arange(d.size)
@@ -243,8 +265,23 @@ def phase_portraits(fig, panels):
 
 def accumulation_classes(frac_accumulate):
     """Codes of Fig. 17 c (index into ACCUMULATION_CLASSES: 0 none, 1 some, 2 all) from the
-    fraction of entries that accumulate; NaN where the mass never reaches the zone (fraction
-    NaN)."""
+    fraction of entries that accumulate.
+
+    Parameters
+    ----------
+    frac_accumulate : numpy.ndarray
+        Fraction of the entries that accumulate; NaN where the mass never reaches the zone.
+
+    Returns
+    -------
+    numpy.ndarray
+        0.0, 1.0 or 2.0; NaN where ``frac_accumulate`` is NaN.
+
+    Examples
+    --------
+    >>> accumulation_classes(np.array([0.0, 0.25, 1.0, np.nan])).tolist()
+    [0.0, 1.0, 2.0, nan]
+    """
     code = np.where(frac_accumulate == 1, 2.0, np.where(frac_accumulate > 0, 1.0, 0.0))
     return np.where(np.isnan(frac_accumulate), np.nan, code)
 
@@ -643,7 +680,7 @@ def figure_16(result, keys):
         entries = []
         for e in (g["groups"]["entry_0"], g["groups"]["entry_1"]):
             d = e["datasets"]
-            label = (f"$x_{{0s}}$ = {g['datasets']['x0'][e['attrs']['index']]:.4f}: {e['attrs']['status']}, "
+            label = (f"$x_{{0s}} = {g['datasets']['x0'][e['attrs']['index']]:.4f}$: {e['attrs']['status']}, "
                      f"end {e['attrs']['x_end']:.5f}")
             entries.append((d["x"], d["v"], label, d["stick_x"][d["stick_x"] >= a["x_mu"]]))
         panels.append({"x_mu": a["x_mu"], "x_stick_min": a["x_stick_min"], "entries": entries})
