@@ -21,7 +21,7 @@ import numpy as np
 import pytest
 import yaml
 from figcheck import compare_figure_data, figure_data, load_reference
-from matplotlib.colors import LogNorm, to_hex
+from matplotlib.colors import LogNorm, to_hex, to_rgb
 from matplotlib.legend import Legend
 from matplotlib.patches import PathPatch
 from test_figures import ATOL, RTOL, assert_data_matches, assert_pixels_match
@@ -269,6 +269,30 @@ def test_legend_check_can_fail(repo, tmp_path):
     fig = build("fig15", stage(repo), tmp_path)
     fig.axes[0].legend(["end positions"], loc="upper left")
     assert overlapping_legends(fig) == [(["end positions"], 0)]
+
+
+@pytest.mark.parametrize("name", FIGURES)
+def test_figure_draws_lines_and_text_in_okabe_ito_or_grey(repo, tmp_path, name):
+    """Lines, markers and texts are drawn in Okabe-Ito colours (style.OKABE_ITO, colour-blind
+    safe) or in greys; a "tab:" colour (the previous default cycle) fails this."""
+    fig = build(name, stage(repo), tmp_path)
+    allowed = {to_hex(c) for c in style.OKABE_ITO.values()}
+    colours = [line.get_color() for ax in fig.axes for line in ax.lines]
+    colours += [text.get_color() for ax in fig.axes for text in ax.texts]
+    off = {to_hex(c) for c in colours if to_hex(c) not in allowed and not is_grey(c)}
+    assert not off, off
+
+
+def is_grey(colour) -> bool:
+    """Red, green and blue equal (black, white and the greys)."""
+    r, g, b = to_rgb(colour)
+    return r == g == b
+
+
+def test_colour_check_can_fail():
+    """The colour check tells a "tab:" colour from Okabe-Ito blue and a grey."""
+    assert not is_grey("tab:blue") and to_hex("tab:blue") not in {to_hex(c) for c in style.OKABE_ITO.values()}
+    assert is_grey("0.5") and is_grey("k")
 
 
 def test_fig18_runs_in_colours_every_reader_tells_apart(repo, tmp_path):
