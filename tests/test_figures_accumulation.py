@@ -359,3 +359,22 @@ def test_fig02_check_catches_another_friction(repo, tmp_path):
     diffs = compare_figure_data(figure_data(changed), load_reference(repo / "tests/figure_refs/fig02.json"),
                                 rtol=RTOL, atol=ATOL)
     assert any(d.startswith("figure.axes[1].lines[0].y") for d in diffs), diffs
+
+
+@pytest.mark.parametrize("vision", sorted(colour_vision.DEFICIENCIES))
+def test_fig17_exact_zeros_stand_apart_from_every_positive_value(vision):
+    """In Fig. 17 d the encoding of Delta x_d = 0 (sky blue) stays at least MIN_DELTA_E from every
+    colour of the Delta x_d map (cividis, 101 samples) under protanopia, deuteranopia,
+    tritanopia and normal vision (measured: at least 39), so no positive value can be read as
+    an exact zero.  The check can fail: zeros drawn in the map's own darkest colour come closer
+    than MIN_DELTA_E to the smallest positive values."""
+    from matplotlib import colormaps
+
+    cmap = colormaps[style.QUANTITY_CMAPS["dx_d"]]
+    samples = [cmap(t)[:3] for t in np.linspace(0.0, 1.0, 101)]
+
+    def closest(zero):
+        return min(colour_vision.delta_e(zero, c, vision) for c in samples if c != zero)
+
+    assert closest(style.SPECIAL["dx_zero"]["facecolor"]) >= colour_vision.MIN_DELTA_E
+    assert closest(samples[0]) < colour_vision.MIN_DELTA_E
