@@ -22,6 +22,9 @@ ACCURACY_PLANAR = [n for n in scenes("accuracy") if SCENES[n].planar]
 
 #: name -> (report category, input result files, options of selfalign.stages.figures.draw)
 FIGURES = {
+    # The stop zone of Sect. 3.3 (Fig. 2), drawn from the model's friction coefficient itself (no
+    # result file) with the accumulation stage's zone; after changing the model: --forcerun plot_fig02.
+    "fig02": (SIMULATION_FIGURES, [], {"zone": ACCUMULATION["zone"]}),
     "fig03": (SIMULATION_FIGURES, [results("simulation", FIGURE_CONFIG["fig03"]["scene"])], {}),
     "fig04": (STEADY_STATE_FIGURES, [results("classification", "fig04")], {}),
     "fig05": (STEADY_STATE_FIGURES, [results("classification", "fig05")], {}),
