@@ -20,7 +20,6 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch, Rectangle
 from matplotlib.ticker import MaxNLocator
 
-from ..model.profiles import CASE_LABELS
 from .annotate import dimension
 from .classification import mean_velocity_zero_line, objective_panel
 from .style import (
@@ -286,15 +285,6 @@ def accumulation_classes(frac_accumulate):
     return np.where(np.isnan(frac_accumulate), np.nan, code)
 
 
-def _case_ticks_in_mathtext(mesh):
-    """Write the case names on the colour bar of ``mesh`` (a :func:`case_map`) in mathtext:
-    "1 stick-slip, $x' \\geq 0$" for Table 1's "x' >= 0"."""
-    bar = mesh.colorbar
-    cases = sorted(CASE_LABELS)
-    bar.ax.set_yticklabels([f"{c} " + CASE_LABELS[c].replace("x' >= 0", r"$x' \geq 0$")
-                           .replace("x' <= 0", r"$x' \leq 0$") for c in cases], fontsize=SMALL_FONT_SIZE)
-
-
 def positioning_error_panel(ax, y2, y3, dx_d, unsettled):
     """Fig. 17 d: the positioning error Delta x_d (eq. 39) over (y2'', y3'').
 
@@ -378,7 +368,7 @@ def fig17_panels(fig, y2, y3, f, vbar, case, frac_accumulate, unsettled, dx_d, f
     """
     axes = fig.subplots(2, 2, sharex=True, sharey=True).ravel()
     handles = objective_panel(axes[0], y2, y3, f, vbar, f_max)
-    _case_ticks_in_mathtext(case_map(axes[1], y2, y3, case))
+    case_map(axes[1], y2, y3, case)
     mean_velocity_zero_line(axes[1], y2, y3, vbar)
     cmap = ListedColormap(ACCUMULATION_COLORS)
     classes = map_mesh(axes[2], y2, y3, np.where(unsettled, np.nan, accumulation_classes(frac_accumulate)),
