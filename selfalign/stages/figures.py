@@ -13,14 +13,17 @@ Sect. 7.1 drawn onto it (:mod:`selfalign.plots.annotate`).
 
 from __future__ import annotations
 
+import numpy as np
+
 from ..analysis.classification import CASE_LABELS, classify
+from ..analysis.finite_jerk import RAMPS_TOO_LONG, jerk_profile
 from ..io.simulation_result import scene_from_result
 from ..plots.accumulation import figure_14, figure_15, figure_16, figure_17, figure_18
 from ..plots.annotate import overshoot_dimensions
 from ..plots.classification import figure_04, figure_05, figure_06, figure_08, figure_map
 from ..plots.design import figure_design
 from ..plots.effects import figure_static_friction, figure_stribeck_friction
-from ..plots.finite_jerk import finite_jerk_figure
+from ..plots.finite_jerk import finite_jerk_figure, finite_jerk_stopping_figure
 from ..plots.profile import figure_07
 from ..plots.simulation import figure_03, figure_09, figure_12, figure_accuracy_cost
 from ..plots.stability import figure_13
@@ -41,6 +44,18 @@ def _fig15(results, setting):
     fig = figure_15(result, key)
     a = result["groups"][key]["attrs"]
     return overshoot_dimensions(fig.axes[0], a["x_mu"], a["overshoot_min"], a["overshoot_max"], a["dx_d"])
+
+
+def _finite_jerk_stopping(results):
+    """The stopping figure of the finite-jerk study, with the cells where no profile of the family exists
+    (case 0, or ramps longer than their phases) found by building the profiles."""
+    (result,) = results
+    _, stopping = grids_from_result(result)
+    a = result["groups"]["stopping"]["attrs"]
+    no_profile = np.array([[[jerk_profile(a["dt"], a["dy"], y2, y3, fraction) in (None, RAMPS_TOO_LONG)
+                             for y3 in stopping.y3.tolist()] for y2 in stopping.y2.tolist()]
+                           for fraction in stopping.ramp_fractions.tolist()])
+    return finite_jerk_stopping_figure(stopping, no_profile)
 
 
 #: name -> draw(results, **options): the results are the figure's inputs in the workflow's order.
@@ -66,7 +81,8 @@ FIGURES = {
     "accuracy_planar": figure_accuracy_cost,  # the scenes of planar motion
     "static_friction": lambda results: figure_static_friction(*results),
     "stribeck_friction": lambda results: figure_stribeck_friction(*results),
-    "finite_jerk": lambda results: finite_jerk_figure(*grids_from_result(*results)),
+    "finite_jerk": lambda results: finite_jerk_figure(grids_from_result(*results)[0]),
+    "finite_jerk_stopping": _finite_jerk_stopping,
 }
 
 
