@@ -15,7 +15,7 @@ import numpy as np
 from matplotlib import patheffects
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
-from matplotlib.ticker import FuncFormatter
+from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
 from ..analysis.optimal_motion import BINDING
 from .effects import case_tick_labels
@@ -101,7 +101,8 @@ def tradeoff_time_error(ax, front: dict, chosen: tuple[float, float] | None) -> 
     everything = np.concatenate([spread, error[simulated]] + ([] if chosen is None else [[1e6 * chosen[0]]]))
     everything = everything[np.isfinite(everything)]
     in_scale = everything[everything <= OFF_SCALE * np.nanmax(spread)]
-    pad = 0.08 * (in_scale.max() - in_scale.min())
+    # One value (a front of one member) gets a margin of its own size.
+    pad = 0.08 * ((in_scale.max() - in_scale.min()) or max(in_scale.max(), 1.0))
     left, right = max(0.0, in_scale.min() - pad), in_scale.max() + pad
     ax.set_xlim(left, right)
     off_scale = everything[everything > right]
@@ -128,7 +129,9 @@ def tradeoff_time_error(ax, front: dict, chosen: tuple[float, float] | None) -> 
         ax.axvline(right, color="0.3", linestyle=":", linewidth=0.8)
         ax.set_xticks(ticks + placed(np.array(extra, dtype=float)).tolist(), [f"{t:g}" for t in ticks + extra])
     ax.set_yscale("log")
+    ax.yaxis.set_major_locator(LogLocator(subs=(1.0, 2.0, 5.0)))
     ax.yaxis.set_major_formatter(FuncFormatter(lambda value, _: f"{value:g}"))
+    ax.yaxis.set_minor_formatter(NullFormatter())
     ax.set_xlabel(r"positioning error over all entries and $\mu$ [$\mu$m]")
     ax.set_ylabel("process time [s]")
     ax.grid(True, which="major", linewidth=0.4, alpha=0.5)
