@@ -24,6 +24,7 @@ from .style import (
     CASE_COLORS,
     FRACTION_COLORS,
     LINE_COLORS,
+    SMALL_FONT_SIZE,
     map_mesh,
     mark_cells,
     new_figure,
@@ -135,7 +136,7 @@ def figure_static_friction(result) -> Figure:
         some = np.count_nonzero(np.nan_to_num(maps["frac_accumulate"][k]) > 0)
         reached = np.count_nonzero(np.isfinite(maps["frac_accumulate"][k]))
         ax.text(0.04, 0.03, f"some accumulate:\n{some} of {reached}", transform=ax.transAxes, ha="left",
-                va="bottom", fontsize=7.0)
+                va="bottom", fontsize=SMALL_FONT_SIZE)
         # Delta x_d over the settings where every entry ends at rest, as Fig. 17 d shows it.
         medians.append(np.nanmedian(np.where(unsettled, np.nan, maps["dx_d"][k])))
         if k:

@@ -12,7 +12,7 @@ import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.ticker import NullLocator
 
-from .style import OKABE_ITO, new_figure, panel_letters, styled
+from .style import OKABE_ITO, SMALL_FONT_SIZE, new_figure, panel_letters, styled
 
 #: Colour of each answer; the Fourier orders in the order given (4, 8, 12 in the workflow).
 OPTIMUM_COLOR, BOUND_COLOR, THREE_PHASE_COLOR = "k", "0.45", OKABE_ITO["vermillion"]
@@ -71,7 +71,7 @@ def vbar_against_order(ax, orders, vbar, scale, sqp_orders, sqp_vbar, optimal: f
     for n, v, s in zip(np.asarray(orders).tolist(), np.asarray(vbar).tolist(), np.asarray(scale).tolist()):
         if v >= VBAR_FLOOR:
             ax.annotate(rf"$\times${s:.2f}", (n, v), textcoords="offset points", xytext=(0, -10), ha="center",
-                        fontsize=7.0)
+                        fontsize=SMALL_FONT_SIZE)
     for i, (n, v) in enumerate(zip(np.asarray(sqp_orders).tolist(), np.asarray(sqp_vbar).tolist())):
         ax.plot([n], [v], "o", color=ORDER_COLORS[i % len(ORDER_COLORS)], markersize=4, label=f"Fourier SQP, order {n}")
     ax.set_xscale("log")
