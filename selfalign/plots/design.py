@@ -224,12 +224,16 @@ def figure_design(result: dict) -> Figure:
         if same.size:
             margin_point = (float(performance["margin"]), float(front["t_estimate"][same[0]]))
     handles += tradeoff_time_margin(ax_b, g["front_time_margin"]["datasets"], margin_point)
+    lettered = [ax_a, ax_b]
     if "map" in g:
         handles += design_map_panel(ax_c, g["map"]["datasets"], (float(profile["y2"]), float(profile["y3"]))
                                     if on_map else None)
+        lettered.append(ax_c)
+    else:
+        ax_c.axis("off")
     if found:
         handles.append(Line2D([], [], label=chosen_label(a, profile, on_map), **CHOSEN))
     ax_key.axis("off")
     ax_key.legend(handles=handles, loc="center left", borderaxespad=0.0)
-    panel_letters([ax_a, ax_b, ax_c])
+    panel_letters(lettered)
     return fig
