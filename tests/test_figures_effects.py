@@ -193,3 +193,27 @@ def test_fraction_classes_and_special_encodings_stay_distinct():
     assert np.array_equal(marked(ax, y, y, "v_negative"), mask)
     assert not marked(ax, y, y, "unsettled").any() and not marked(ax, y, y, "dx_zero").any()
     assert to_rgba(style.SPECIAL["non_physical"]["facecolor"]) != to_rgba(style.SPECIAL["dx_zero"]["facecolor"])
+
+
+def test_static_friction_maps_draw_case_0_as_case_0():
+    """Hypothesis (Sect. 5.1, Appendix: no physical profile where q = 8 dy (1/y2'' + 1/y3'') / dt^2 > 1):
+    draw("static_friction") marks exactly the settings of its plane with q > 1 in the encoding
+    "non_physical" on every map, and leaves white (no data) the others the mass never reaches."""
+    from selfalign.stages.figures import draw
+
+    y2, y3 = np.array([0.5, 1.5, 2.5]), np.array([0.5, 1.5, 2.5])
+    reached = np.array([[np.nan, np.nan, np.nan], [np.nan, 0.0, 1.0], [np.nan, 0.5, 1.0]])
+    dx_d = np.where(reached == 1.0, 0.0, 1e-3 * np.isfinite(reached))
+    maps = {"ratio": np.array([1.0, 1.1]), "frac_accumulate": np.array([reached, 0.0 * reached]),
+            "frac_never_stop": np.zeros((2, 3, 3)), "frac_undecided": np.zeros((2, 3, 3)),
+            "dx_d": np.array([np.where(np.isnan(reached), np.nan, dx_d), np.where(np.isnan(reached), np.nan, 1e-3)])}
+    sweep = {"ratio": np.array([1.0, 1.1]), "y2": np.array([2.3]), "y3": np.array([1.3]),
+             "dx_d": np.array([[0.0, 1e-3]]), "frac_accumulate": np.array([[1.0, 0.0]])}
+    result = {"datasets": {"y2": y2, "y3": y3}, "attrs": {"dt": 1.0, "dy": 0.084},
+              "groups": {"maps": {"datasets": maps}, "sweep": {"datasets": sweep}}}
+    fig = draw("static_friction", [result])
+    assert style.print_check(fig) == []
+    q = 8 * 0.084 * (1 / y2[:, None] + 1 / y3[None, :])
+    assert q[0, 0] > 1 and q[1, 1] < 1  # both kinds of cell are present
+    for ax in panels(fig)[:2]:
+        assert np.array_equal(marked(ax, y2, y3, "non_physical"), q > 1)

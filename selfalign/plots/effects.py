@@ -61,19 +61,23 @@ def case_tick_labels() -> list[str]:
             for case in sorted(CASE_COLORS)]
 
 
-def accumulation_panel(ax, y2, y3, frac_accumulate, unsettled) -> list:
+def accumulation_panel(ax, y2, y3, frac_accumulate, unsettled, no_profile=None) -> list:
     """The fraction of entries that accumulate over (y2'', y3'') as the three classes, where every
-    entry ends at rest; ``unsettled`` cells (some entry never stops or stays undecided) in their
-    encoding; white where the mass never reaches the zone.  Returns the legend handles."""
+    entry ends at rest; ``unsettled`` cells (some entry never stops or stays undecided) and
+    ``no_profile`` cells (case 0; None: not marked) in their encodings; white where the mass never
+    reaches the zone.  Returns the legend handles."""
     cmap = ListedColormap(FRACTION_COLORS)
     unsettled = np.asarray(unsettled, dtype=bool)
     map_mesh(ax, y2, y3, np.where(unsettled, np.nan, accumulation_classes(frac_accumulate)), cmap=cmap,
              norm=BoundaryNorm(np.arange(-0.5, len(FRACTION_COLORS)), cmap.N))
     classes = [Patch(facecolor=c, edgecolor="k", linewidth=0.5, label=label)
                for c, label in zip(FRACTION_COLORS, ACCUMULATE_LABELS)]
-    return classes + [mark_cells(ax, y2, y3, unsettled, "unsettled", "not every entry stops (some never stop "
-                                 "or stay undecided)"),
-                      Patch(facecolor="white", edgecolor="k", linewidth=0.5, label=NOT_REACHED_LABEL)]
+    handles = classes + [mark_cells(ax, y2, y3, unsettled, "unsettled", "not every entry stops (some never stop "
+                                    "or stay undecided)"),
+                         Patch(facecolor="white", edgecolor="k", linewidth=0.5, label=NOT_REACHED_LABEL)]
+    if no_profile is not None:
+        handles.append(mark_cells(ax, y2, y3, no_profile, "non_physical"))
+    return handles
 
 
 def dx_d_against_ratio(ax, ratio, settings, dx_d, frac_accumulate, grid_ratio=(), grid_median=()):
@@ -106,7 +110,7 @@ def dx_d_against_ratio(ax, ratio, settings, dx_d, frac_accumulate, grid_ratio=()
 
 
 @styled
-def figure_static_friction(result) -> Figure:
+def figure_static_friction(result, no_profile=None) -> Figure:
     """The static-friction figure from ``static_friction.h5``: one Fig. 17 c map per r of the
     maps (a, b, ..., top row, the count of settings where some entry accumulates written in each)
     and Delta x_d of the swept settings against r - 1 (last panel).
@@ -115,6 +119,8 @@ def figure_static_friction(result) -> Figure:
     ----------
     result : dict
         ``results/effects/static_friction.h5`` read with :func:`selfalign.io.hdf5.read_h5`.
+    no_profile : array_like of bool, optional
+        [y2, y3]: the settings without a physical profile (case 0), drawn in its encoding; None: not marked.
 
     Returns
     -------
@@ -132,7 +138,7 @@ def figure_static_friction(result) -> Figure:
     medians = []
     for k, ax in enumerate(maps_axes):
         unsettled = (maps["frac_never_stop"][k] > 0) | (maps["frac_undecided"][k] > 0)
-        handles = accumulation_panel(ax, d["y2"], d["y3"], maps["frac_accumulate"][k], unsettled)
+        handles = accumulation_panel(ax, d["y2"], d["y3"], maps["frac_accumulate"][k], unsettled, no_profile)
         some = np.count_nonzero(np.nan_to_num(maps["frac_accumulate"][k]) > 0)
         reached = np.count_nonzero(np.isfinite(maps["frac_accumulate"][k]))
         ax.text(0.04, 0.03, f"some accumulate:\n{some} of {reached}", transform=ax.transAxes, ha="left",

@@ -46,16 +46,27 @@ def _fig15(results, setting):
     return overshoot_dimensions(fig.axes[0], a["x_mu"], a["overshoot_min"], a["overshoot_max"], a["dx_d"])
 
 
+def _no_profile(dt: float, dy: float, y2, y3, fractions) -> np.ndarray:
+    """[ramp, y2, y3]: where no profile of the family exists (case 0, or ramps longer than their phases),
+    found by building the profiles (:func:`selfalign.analysis.finite_jerk.jerk_profile`)."""
+    return np.array([[[jerk_profile(dt, dy, a, b, fraction) in (None, RAMPS_TOO_LONG) for b in np.asarray(y3).tolist()]
+                      for a in np.asarray(y2).tolist()] for fraction in np.asarray(fractions).tolist()])
+
+
 def _finite_jerk_stopping(results):
-    """The stopping figure of the finite-jerk study, with the cells where no profile of the family exists
-    (case 0, or ramps longer than their phases) found by building the profiles."""
+    """The stopping figure of the finite-jerk study, the cells without a profile marked."""
     (result,) = results
     _, stopping = grids_from_result(result)
     a = result["groups"]["stopping"]["attrs"]
-    no_profile = np.array([[[jerk_profile(a["dt"], a["dy"], y2, y3, fraction) in (None, RAMPS_TOO_LONG)
-                             for y3 in stopping.y3.tolist()] for y2 in stopping.y2.tolist()]
-                           for fraction in stopping.ramp_fractions.tolist()])
-    return finite_jerk_stopping_figure(stopping, no_profile)
+    return finite_jerk_stopping_figure(stopping, _no_profile(a["dt"], a["dy"], stopping.y2, stopping.y3,
+                                                             stopping.ramp_fractions))
+
+
+def _static_friction(results):
+    """The static-friction figure, the settings without a physical profile (case 0) marked."""
+    (result,) = results
+    d, a = result["datasets"], result["attrs"]
+    return figure_static_friction(result, _no_profile(a["dt"], a["dy"], d["y2"], d["y3"], [0.0])[0])
 
 
 #: name -> draw(results, **options): the results are the figure's inputs in the workflow's order.
@@ -79,7 +90,7 @@ FIGURES = {
     "accuracy_cost": figure_accuracy_cost,
     "accuracy_parts": figure_accuracy_cost,  # the scenes with several parts
     "accuracy_planar": figure_accuracy_cost,  # the scenes of planar motion
-    "static_friction": lambda results: figure_static_friction(*results),
+    "static_friction": _static_friction,
     "stribeck_friction": lambda results: figure_stribeck_friction(*results),
     "finite_jerk": lambda results: finite_jerk_figure(grids_from_result(*results)[0]),
     "finite_jerk_stopping": _finite_jerk_stopping,
