@@ -27,7 +27,7 @@ REGIONS = {"screened": ("k", "-", "w", "passes every closed-form condition"),
            "accumulates": ("w", "--", "k", r"all entries accumulate (nominal $\mu$)"),
            "sufficient": ("k", ":", "w", r"sufficient condition of Sect. 7.3 (nominal $\mu$)")}
 #: Simulated members of the front farther right than this many times the front's largest spread
-#: are off the scale of panel a: drawn at its right edge, their errors named in the legend.
+#: are off the scale of panel a: drawn right of a break, on a scale of their own.
 OFF_SCALE = 3.0
 #: Markers of the simulated members (filled: guaranteed) and of the chosen design.
 GUARANTEED = dict(marker="o", color=OKABE_ITO["bluish green"], linestyle="none")
