@@ -8,7 +8,8 @@ Fig. 10 plane (dt = 0.072, dy = 0.021, y2'' in [20, 1500], y3'' in [20, 300]) an
 plane (dt = 1.38, dy = 0.064, y2'', y3'' in [0.1, 3]), 24 x 24 each, exact solver, and the
 stopping of 16 steady-state entries into the stop zone (w = 0.05, c_mu = 2.5) over the Fig. 17
 plane (dt = 1, dy = 0.084, y2'', y3'' in [0.5, 2.5], 21 x 21, exact solver).  Writes
-OUT_DIR/finite_jerk.h5 and OUT_DIR/finite_jerk.png and prints the summary of the Fig. 11 and
+OUT_DIR/finite_jerk.h5, OUT_DIR/finite_jerk.png (the steady planes) and OUT_DIR/finite_jerk_stopping.png
+(the stop zone) and prints the summary of the Fig. 11 and
 Fig. 17 planes.
 """
 
@@ -20,8 +21,8 @@ from pathlib import Path
 import numpy as np
 
 from selfalign.io.hdf5 import write_h5
-from selfalign.plots.finite_jerk import finite_jerk_figure
 from selfalign.stages.common import save_figure
+from selfalign.stages.figures import draw
 from selfalign.stages.finite_jerk import finite_jerk_results, grids_from_result
 
 FRACTIONS = (0.0, 0.01, 0.05, 0.10)
@@ -78,8 +79,10 @@ def main(out: Path) -> None:
     path = write_h5(out / "finite_jerk.h5", *content,
                     config={"ramp_fractions": list(FRACTIONS), "steady": STEADY, "stopping": STOPPING, "zone": ZONE})
     datasets, _, groups = content
-    steady, stopping = grids_from_result({"datasets": datasets, "groups": groups})
-    save_figure(finite_jerk_figure(steady, stopping), out / "finite_jerk.png", dpi=100)
+    result = {"datasets": datasets, "groups": groups}
+    steady, stopping = grids_from_result(result)
+    for name in ("finite_jerk", "finite_jerk_stopping"):
+        save_figure(draw(name, [result]), out / f"{name}.png", dpi=100)
     print(f"written to {path}")
     print("\n".join(summary(steady["fig11"], stopping, ZONE["c_mu"])))
 

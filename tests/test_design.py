@@ -263,7 +263,7 @@ def test_stage_writes_result_figure_and_recording(tmp_path):
     assert stored["groups"]["profile"]["datasets"]["period"] == result.period
     assert stored["groups"]["map"]["datasets"]["case"].shape == (6, 6)
     fig = draw("design_station", [stored])
-    assert len(fig.axes) == 4  # three panels and the case colour bar
+    assert len(fig.axes) == 5  # three panels, the case colour bar and the legend
     recording = stop_recording(stored)
     assert recording.times.size > 100 and "position/events/accumulation_limit" in recording.markers
     scene = stop_scene(stored)

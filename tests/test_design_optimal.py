@@ -184,12 +184,14 @@ def test_cli_and_result_file_name_the_family_and_the_gain(tmp_path):
 
 
 def test_design_figure_puts_only_a_paper_family_design_on_the_map(both, tmp_path):
-    """Hypothesis: panel C of the design figure is the design map over (y2'', y3'') of the best three-phase
+    """Hypothesis: panel c of the design figure is the design map over (y2'', y3'') of the best three-phase
     design (Sect. 7.3); an optimal-family design has no (y2'', y3''), so it is not drawn on the map and the
-    panel's title says the chosen design is of the optimal family; a three-phase design keeps its star."""
+    legend says the chosen design is of the optimal family, shown in a only; a three-phase design keeps its
+    star on the map."""
     from selfalign.analysis.design import design_map
     from selfalign.io.hdf5 import read_h5, write_h5
     from selfalign.plots.design import figure_design
+    from selfalign.plots.style import print_check
     from selfalign.stages.design import design_content
 
     assert both.family == "optimal" and both.other is not None and both.other.family == "three_phase"
@@ -197,9 +199,12 @@ def test_design_figure_puts_only_a_paper_family_design_on_the_map(both, tmp_path
     for result in (both, both.other):
         write_h5(tmp_path / f"{result.family}.h5", *design_content(result, chart))
         fig = figure_design(read_h5(tmp_path / f"{result.family}.h5"))
+        assert print_check(fig) == []
         panel = fig.axes[2]
+        assert panel.get_title(loc="left") == "c"
         stars = [line for line in panel.lines if line.get_marker() == "*"]
+        legend = "\n".join(t.get_text() for ax in fig.axes if ax.get_legend() for t in ax.get_legend().texts)
         if result.family == "optimal":
-            assert not stars and "optimal family" in panel.get_title(loc="left")
+            assert not stars and "optimal family" in legend
         else:
-            assert len(stars) == 1 and "chosen period" in panel.get_title(loc="left")
+            assert len(stars) == 1 and "optimal family" not in legend

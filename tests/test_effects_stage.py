@@ -7,6 +7,7 @@ import pytest
 from selfalign.analysis.positioning import positioning
 from selfalign.io.hdf5 import read_dataset_attrs, read_h5, write_h5
 from selfalign.model.profiles import ThreePhaseProfile
+from selfalign.plots.style import print_check
 from selfalign.stages.effects import friction_law, static_friction_content
 from selfalign.stages.figures import draw
 
@@ -47,13 +48,16 @@ def test_sweep_equals_positioning_of_the_setting(content):
 
 
 def test_result_file_is_documented_and_draws(content, tmp_path):
-    """Every dataset of the file gets units and a description, and the figure has one map per r
-    plus the Delta x_d panel, whose log axes show the swept r - 1."""
+    """Every dataset of the file gets units and a description, and the figure (at print size,
+    print_check empty) has one map per r, lettered a, b, plus the Delta x_d panel c, whose log axes
+    show the swept r - 1; each map counts the settings where some entry accumulates."""
     path = write_h5(tmp_path / "static_friction.h5", *content)
     assert all(meta["units"] and meta["description"] for meta in read_dataset_attrs(path).values())
     fig = draw("static_friction", [read_h5(path)])
-    assert len(fig.axes) == 3
-    sweep_ax = fig.axes[-1]
+    assert print_check(fig) == []
+    panels = [ax for ax in fig.axes if ax.axison]
+    assert [ax.get_title(loc="left") for ax in panels] == ["a", "b", "c"]
+    sweep_ax = panels[-1]
     assert sweep_ax.get_xscale() == "log" and sweep_ax.get_yscale() == "log"
     assert sweep_ax.lines[0].get_xdata().tolist() == pytest.approx([0.01, 0.1])
-    assert "some accumulate: 0 of" in fig.axes[1].get_title()
+    assert [t.get_text() for t in panels[1].texts] == ["some accumulate:\n0 of 9"]

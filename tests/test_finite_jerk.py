@@ -285,10 +285,11 @@ def test_ramps_create_accumulation_where_the_paper_has_none_and_ivp_agrees():
 def test_stage_result_reads_back_into_the_grids_and_the_figure(tmp_path):
     """The workflow stage's content (stages.finite_jerk), written with write_h5 and read back, gives
     the grids steady_grid and stopping_grid compute directly (bit for bit, every steady plane by name),
-    and draw("finite_jerk") makes two rows per steady plane plus two stopping rows of one panel per
-    ramp fraction."""
+    and draw("finite_jerk") makes two rows per steady plane, draw("finite_jerk_stopping") two stopping
+    rows, of one panel per ramp fraction, both at print size (print_check empty)."""
     from selfalign.analysis.finite_jerk import steady_grid, stopping_grid
     from selfalign.io.hdf5 import read_h5, write_h5
+    from selfalign.plots.style import print_check
     from selfalign.stages.figures import draw
     from selfalign.stages.finite_jerk import finite_jerk_results, grids_from_result
 
@@ -314,6 +315,8 @@ def test_stage_result_reads_back_into_the_grids_and_the_figure(tmp_path):
                            max_periods=300, progress="quiet")
     for field in ("y2", "y3", "frac_accumulate", "frac_rest", "dx_d"):
         assert np.array_equal(getattr(stopping, field), getattr(direct, field), equal_nan=True), field
-    fig = draw("finite_jerk", [result])
-    panels = [ax for ax in fig.axes if ax.get_label() != "<colorbar>"]
-    assert len(panels) == (2 * len(steady) + 2) * len(fractions)
+    for name, rows in (("finite_jerk", 2 * len(steady)), ("finite_jerk_stopping", 2)):
+        fig = draw(name, [result])
+        assert print_check(fig) == []
+        panels = [ax for ax in fig.axes if ax.get_label() != "<colorbar>" and ax.axison]
+        assert len(panels) == rows * len(fractions)

@@ -15,6 +15,7 @@ from test_figures import ATOL, RTOL, assert_data_matches
 from selfalign.analysis.optimal_motion import centred_motion, fastest_pieces
 from selfalign.io.hdf5 import measured_datasets, read_h5, reproducible_bytes, write_h5
 from selfalign.plots.optimal_motion import figure_fig06_revisited
+from selfalign.plots.style import print_check
 from selfalign.stages.optimal_motion import fig06_revisited_results
 
 #: The fastest motion is polished by SLSQP (LAPACK): every test here reruns under other BLAS kernels in CI.
@@ -236,8 +237,9 @@ def test_figure_data_matches_reference(repo, study, update_figure_refs):
     """The figure (docs/explanation/fig6-revisited.md, "The figure") drawn from the coarse sweeps shows the
     numbers of tests/figure_refs/fig06_revisited.json on every BLAS kernel: to OPTIMUM_RTOL, the sweeps'
     truncations to TRUNCATION_RTOL (the committed figures/fig06_revisited.png is the workflow's full sweeps
-    and is not compared)."""
+    and is not compared), at print size (print_check empty)."""
     fig = figure_fig06_revisited(study)
+    assert print_check(fig) == []
     if update_figure_refs:
         assert_data_matches(repo, fig, "fig06_revisited", update_figure_refs)
     orders = stage_settings(repo)["orders"]

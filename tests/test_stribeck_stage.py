@@ -9,6 +9,7 @@ from selfalign.analysis.finite_jerk import stopping
 from selfalign.analysis.steady_simulation import simulated_steady_state
 from selfalign.io.hdf5 import read_dataset_attrs, read_h5, write_h5
 from selfalign.model.profiles import ThreePhaseProfile
+from selfalign.plots.style import print_check
 from selfalign.stages.effects import friction_law, stribeck_content
 from selfalign.stages.figures import draw
 
@@ -67,12 +68,15 @@ def test_large_v_s_brings_accumulation_back(content):
 
 def test_result_file_is_documented_and_draws(content, tmp_path):
     """Every dataset of stribeck.h5 gets units and a description, and the figure has the vbar,
-    accumulation and Delta x_d panels with v_s / velocity swing on a log axis."""
+    accumulation and Delta x_d panels a, b, c with v_s / velocity swing on a log axis, at print size
+    (print_check empty)."""
     path = write_h5(tmp_path / "stribeck.h5", *content)
     assert all(meta["units"] and meta["description"] for meta in read_dataset_attrs(path).values())
     fig = draw("stribeck_friction", [read_h5(path)])
-    assert len(fig.axes) == 3
-    for ax in fig.axes:
+    assert print_check(fig) == []
+    panels = [ax for ax in fig.axes if ax.axison]
+    assert [ax.get_title(loc="left") for ax in panels] == ["a", "b", "c"]
+    for ax in panels:
         assert ax.get_xscale() == "log"
         assert ax.lines[0].get_xdata().tolist() == pytest.approx(FRACTIONS)
 

@@ -14,7 +14,10 @@ Sect. 7.1 drawn onto it (:mod:`selfalign.plots.annotate`), and Fig. 2 the workfl
 
 from __future__ import annotations
 
+import numpy as np
+
 from ..analysis.classification import CASE_LABELS, classify
+from ..analysis.finite_jerk import RAMPS_TOO_LONG, jerk_profile
 from ..io.simulation_result import scene_from_result
 from ..model.friction import StopZone
 from ..plots.accumulation import figure_02, figure_14, figure_15, figure_16, figure_17, figure_18
@@ -22,7 +25,7 @@ from ..plots.annotate import overshoot_dimensions
 from ..plots.classification import figure_04, figure_05, figure_06, figure_08, figure_map
 from ..plots.design import figure_design
 from ..plots.effects import figure_static_friction, figure_stribeck_friction
-from ..plots.finite_jerk import finite_jerk_figure
+from ..plots.finite_jerk import finite_jerk_figure, finite_jerk_stopping_figure
 from ..plots.profile import figure_07
 from ..plots.simulation import figure_03, figure_09, figure_12, figure_accuracy_cost
 from ..plots.stability import figure_13
@@ -43,6 +46,29 @@ def _fig15(results, setting):
     fig = figure_15(result, key)
     a = result["groups"][key]["attrs"]
     return overshoot_dimensions(fig.axes[0], a["x_mu"], a["overshoot_min"], a["overshoot_max"], a["dx_d"])
+
+
+def _no_profile(dt: float, dy: float, y2, y3, fractions) -> np.ndarray:
+    """[ramp, y2, y3]: where no profile of the family exists (case 0, or ramps longer than their phases),
+    found by building the profiles (:func:`selfalign.analysis.finite_jerk.jerk_profile`)."""
+    return np.array([[[jerk_profile(dt, dy, a, b, fraction) in (None, RAMPS_TOO_LONG) for b in np.asarray(y3).tolist()]
+                      for a in np.asarray(y2).tolist()] for fraction in np.asarray(fractions).tolist()])
+
+
+def _finite_jerk_stopping(results):
+    """The stopping figure of the finite-jerk study, the cells without a profile marked."""
+    (result,) = results
+    _, stopping = grids_from_result(result)
+    a = result["groups"]["stopping"]["attrs"]
+    return finite_jerk_stopping_figure(stopping, _no_profile(a["dt"], a["dy"], stopping.y2, stopping.y3,
+                                                             stopping.ramp_fractions))
+
+
+def _static_friction(results):
+    """The static-friction figure, the settings without a physical profile (case 0) marked."""
+    (result,) = results
+    d, a = result["datasets"], result["attrs"]
+    return figure_static_friction(result, _no_profile(a["dt"], a["dy"], d["y2"], d["y3"], [0.0])[0])
 
 
 #: name -> draw(results, **options): the results are the figure's inputs in the workflow's order.
@@ -68,9 +94,10 @@ FIGURES = {
     "accuracy_cost": figure_accuracy_cost,
     "accuracy_parts": figure_accuracy_cost,  # the scenes with several parts
     "accuracy_planar": figure_accuracy_cost,  # the scenes of planar motion
-    "static_friction": lambda results: figure_static_friction(*results),
+    "static_friction": _static_friction,
     "stribeck_friction": lambda results: figure_stribeck_friction(*results),
-    "finite_jerk": lambda results: finite_jerk_figure(*grids_from_result(*results)),
+    "finite_jerk": lambda results: finite_jerk_figure(grids_from_result(*results)[0]),
+    "finite_jerk_stopping": _finite_jerk_stopping,
 }
 
 

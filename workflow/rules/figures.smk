@@ -54,7 +54,9 @@ FIGURES = {
        if ACCURACY_PLANAR else {}),
     "static_friction": (EFFECT_FIGURES, [results("effects", "static_friction")], {}),
     "stribeck_friction": (EFFECT_FIGURES, [results("effects", "stribeck")], {}),
+    # The finite-jerk study: the steady planes, and the stopping over Fig. 17's plane.
     "finite_jerk": (EFFECT_FIGURES, [results("finite_jerk", "finite_jerk")], {}),
+    "finite_jerk_stopping": (EFFECT_FIGURES, [results("finite_jerk", "finite_jerk")], {}),
     # One per design spec (selfalign.stages.figures.FAMILIES), all with the caption design.rst.
     **{f"design_{name}": (DESIGN_FIGURES, [results("design", name)], {}) for name in DESIGNS},
 }
