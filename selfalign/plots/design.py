@@ -18,8 +18,7 @@ from matplotlib.lines import Line2D
 from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
 from ..analysis.optimal_motion import BINDING
-from .effects import case_tick_labels
-from .style import OKABE_ITO, SMALL_FONT_SIZE, case_map, mark_cells, new_figure, panel_letters, styled
+from .style import OKABE_ITO, case_map, mark_cells, new_figure, panel_letters, styled
 
 #: Outline colour, line style, halo colour and legend label of the regions of panel c.  Every
 #: outline has a halo of the other shade, so it shows on every case colour.
@@ -156,8 +155,7 @@ def design_map_panel(ax, m: dict, chosen: tuple[float, float] | None) -> list:
     encoding, region outlines with halos, the chosen (y2'', y3'') if the chosen design is of the
     paper's family (the map's).  Returns the legend handles."""
     y2, y3 = m["y2"], m["y3"]
-    mesh = case_map(ax, y2, y3, m["case"])
-    mesh.colorbar.ax.set_yticklabels(case_tick_labels(), fontsize=SMALL_FONT_SIZE)
+    case_map(ax, y2, y3, m["case"])
     handles = [mark_cells(ax, y2, y3, ~m["physical"].astype(bool), "non_physical")]
     regions = {"screened": m["screened"].astype(float), "accumulates": (m["frac_accumulate"] == 1).astype(float),
                "sufficient": (m["sufficient"] == 1).astype(float)}

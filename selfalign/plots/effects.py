@@ -10,18 +10,14 @@ maps show the fraction of entries that accumulate as the three classes of the fi
 
 from __future__ import annotations
 
-import re
-
 import numpy as np
 from matplotlib.colors import BoundaryNorm, ListedColormap
 from matplotlib.figure import Figure
 from matplotlib.patches import Patch
 from matplotlib.ticker import LogLocator
 
-from ..analysis.classification import CASE_LABELS
 from .accumulation import accumulation_classes
 from .style import (
-    CASE_COLORS,
     FRACTION_COLORS,
     LINE_COLORS,
     SMALL_FONT_SIZE,
@@ -41,24 +37,6 @@ ACCUMULATE_LABELS = ("none accumulates, all come to rest", "some accumulate, the
                      "all accumulate")
 #: Legend label of the cells left white in a map of the stop zone.
 NOT_REACHED_LABEL = "white: the mass never reaches the zone"
-
-
-def case_tick_labels() -> list[str]:
-    """The ticks of a case colour bar, "1 stick-slip, $x' \\geq 0$", in the order of the cases:
-    Table 1's labels with their inequalities in mathtext.
-
-    Returns
-    -------
-    list of str
-
-    Examples
-    --------
-    >>> case_tick_labels()[1]
-    "1 stick-slip, $x' \\\\geq 0$"
-    """
-    signs = {">=": r"\geq", "<=": r"\leq"}
-    return [f"{case} " + re.sub(r"(\S+) (>=|<=) (\S+)", lambda m: f"${m[1]} {signs[m[2]]} {m[3]}$", CASE_LABELS[case])
-            for case in sorted(CASE_COLORS)]
 
 
 def accumulation_panel(ax, y2, y3, frac_accumulate, unsettled, no_profile=None) -> list:

@@ -14,10 +14,11 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Patch
 
 from ..model.profiles import RAMPS_TOO_LONG
-from .effects import accumulation_panel, case_tick_labels
+from .effects import accumulation_panel
 from .style import (
     CASE_COLORS,
     QUANTITY_CMAPS,
+    case_label,
     case_map,
     map_mesh,
     mark_cells,
@@ -106,8 +107,8 @@ def finite_jerk_figure(steady: dict) -> Figure:
                 mark_cells(ax, grid.y2, grid.y3, no_profile, "non_physical")
         fig.colorbar(mesh, ax=list(axes[row]), label=r"$\bar v$", fraction=0.04, pad=0.01)
         _share_block(axes[row:row + 2])
-    handles = [Patch(facecolor=CASE_COLORS[c], edgecolor="k", linewidth=0.5, label=label)
-               for c, label in zip(sorted(CASE_COLORS), case_tick_labels()) if c]
+    handles = [Patch(facecolor=CASE_COLORS[c], edgecolor="k", linewidth=0.5, label=case_label(c))
+               for c in sorted(CASE_COLORS) if c]
     handles.append(special_handle("non_physical", NO_PROFILE_LABEL))
     if negative:
         handles.append(special_handle("v_negative"))
