@@ -223,7 +223,7 @@ ERROR_KINDS = {
 #: Per method: the dataset that sets each run's accuracy, the colour map of its markers (darker
 #: = finer: more steps, smaller rtol) and the label of its colour bar.
 RUN_SETTING = {
-    "moreau": ("steps_per_period", "Blues", r"Moreau: $n = \Delta t / h$"),
+    "moreau": ("steps_per_period", "Blues", r"Moreau: steps per period $n = \Delta t / h$"),
     "ivp": ("rtol", "Oranges_r", "solve_ivp: rtol"),
 }
 #: Line colour, marker and legend label of each method's runs.
