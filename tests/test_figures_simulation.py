@@ -313,3 +313,12 @@ def test_work_precision_labels_the_reference_by_what_it_is(stribeck_result):
     legend = [text.get_text() for text in fig.legends[0].get_texts()]
     assert not any("exact" in text for text in legend), legend
     assert [ax.get_title("left") for ax in fig.axes if ax.get_title("left")] == ["a", "b"]
+
+
+def test_fig09_lines_take_no_case_colour(simulation_figures):
+    """In Fig. 9 a case colour (style.CASE_COLORS) means a case of Table 1 only: no line (x', y'', the
+    friction bounds) is drawn in one, so the vermillion of case 2 is not also the friction bounds'."""
+    from matplotlib.colors import to_hex
+
+    cases = {to_hex(colour) for colour in style.CASE_COLORS.values()}
+    assert line_colours(simulation_figures["fig09"]).isdisjoint(cases)

@@ -27,8 +27,9 @@ from .style import CASE_COLORS, OKABE_ITO, new_figure, panel_letters, styled
 #: Colour of the object's quantities (x, x', F_f) and of the table's (y, y'', -y'').
 OBJECT_COLOR = OKABE_ITO["black"]
 TABLE_COLOR = OKABE_ITO["bluish green"]
-#: The friction bounds +-1 (Figs. 9, 12).
-FRICTION_BOUND_STYLE = {"color": OKABE_ITO["vermillion"], "linestyle": "--", "linewidth": 0.8}
+#: The friction bounds +-1 (Figs. 9, 12), in a colour no case of Table 1 has (Fig. 9 shows the case colours),
+#: under the lines that run along them (F_f = +-1 in slip).
+FRICTION_BOUND_STYLE = {"color": OKABE_ITO["reddish purple"], "linestyle": "--", "linewidth": 0.9, "zorder": 1.5}
 
 
 def _zero_line(ax):
