@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -207,3 +208,63 @@ def compare_pixels(png_a, png_b, tol: float) -> float | None:
 
     result = compare_images(str(png_b), str(png_a), tol, in_decorator=True)
     return None if result is None else float(result["rms"])
+
+
+#: A stream object of a PDF file: its dictionary and its bytes.
+_PDF_STREAM = re.compile(rb"\d+ 0 obj\s*<<((?:(?!endobj).)*?)>>\s*stream\r?\n(.*?)endstream", re.S)
+#: Tokens of a PDF content stream: numbers, names, strings and operators.
+_PDF_TOKEN = re.compile(rb"[-+]?(?:\d+\.?\d*|\.\d+)|/[^\s/\[\]<>()]+|<[0-9A-Fa-f\s]*>|\([^)]*\)|[^\s\[\]<>()/]+|[\[\]]")
+
+
+def pdf_drawing(path) -> list[list]:
+    """What a PDF file draws: the tokens of each of its streams but the font programs
+    (decompressed; numbers as floats, the rest as bytes), in file order.
+
+    Metadata, object offsets and the embedded font files are left out, so two files that draw
+    the same thing compare equal whatever wrote their bytes; numbers are compared with a
+    tolerance by :func:`compare_pdf`.
+    """
+    import zlib
+
+    drawing = []
+    for head, body in _PDF_STREAM.findall(Path(path).read_bytes()):
+        if b"/Length1" in head:  # an embedded TrueType font program
+            continue
+        data = zlib.decompress(body) if b"/FlateDecode" in head else body
+        drawing.append([float(t) if re.fullmatch(rb"[-+]?(?:\d+\.?\d*|\.\d+)", t) else t
+                        for t in _PDF_TOKEN.findall(data)])
+    return drawing
+
+
+def compare_pdf(pdf, reference, atol: float = 0.01) -> list[str]:
+    """Differences of what ``pdf`` draws from what ``reference`` draws (:func:`pdf_drawing`),
+    numbers within ``atol`` (points: 0.01 pt is 3.5 micrometres) being equal; empty if they agree."""
+    a, b = pdf_drawing(pdf), pdf_drawing(reference)
+    if len(a) != len(b):
+        return [f"{len(a)} drawing streams, reference has {len(b)}"]
+    diffs = []
+    for k, (s, r) in enumerate(zip(a, b)):
+        if len(s) != len(r):
+            diffs.append(f"stream {k}: {len(s)} tokens, reference has {len(r)}")
+            continue
+        for i, (x, y) in enumerate(zip(s, r)):
+            same = abs(x - y) <= atol if isinstance(x, float) and isinstance(y, float) else x == y
+            if not same:
+                diffs.append(f"stream {k} token {i}: {x!r} != {y!r}")
+                break
+    return diffs
+
+
+def pdf_page_size(path) -> tuple[float, float]:
+    """Width and height of the (single) page of a PDF file, in millimetres."""
+    box = re.search(rb"/MediaBox\s*\[\s*([-\d.\s]+)\]", Path(path).read_bytes())
+    x0, y0, x1, y1 = (float(v) for v in box.group(1).split())
+    return (x1 - x0) * 25.4 / 72, (y1 - y0) * 25.4 / 72
+
+
+def pdf_font_sizes(path) -> set[float]:
+    """Every font size a PDF file sets (the operand of each ``Tf``), in points at print size."""
+    sizes = set()
+    for stream in pdf_drawing(path):
+        sizes.update(stream[i - 1] for i, t in enumerate(stream) if t == b"Tf" and isinstance(stream[i - 1], float))
+    return sizes

@@ -1,9 +1,11 @@
 """Figure regression: figures rebuilt from fresh data match the committed references.
 
 The numbers a figure shows are compared with ``tests/figure_refs/<fig>.json``
-(``figcheck.figure_data``; rtol 1e-9); the pixels are compared with the
-committed ``figures/<fig>.png`` only under the pinned matplotlib series, whose
-rendering the PNG was made with.  After an intended change, rewrite both with
+(``figcheck.figure_data``; rtol 1e-9); the pixels with the committed
+``figures/<fig>.png`` and the drawing with the committed ``figures/<fig>.pdf``
+(``figcheck.compare_pdf``: every stream but the fonts, numbers within 0.01 pt)
+only under the pinned matplotlib series, whose rendering the files were made with.
+After an intended change, rewrite them with
 ``python -m pytest tests/test_figures.py --update-figure-refs`` and review the diff.
 """
 
@@ -14,7 +16,7 @@ import tomllib
 import matplotlib
 import pytest
 import yaml
-from figcheck import compare_figure_data, compare_pixels, figure_data, load_reference, save_reference
+from figcheck import compare_figure_data, compare_pdf, compare_pixels, figure_data, load_reference, save_reference
 
 from selfalign import load_scene
 from selfalign.io.hdf5 import read_h5, write_h5
@@ -39,8 +41,9 @@ def pinned_matplotlib_series(repo):
     return pins[0]
 
 def assert_pixels_match(repo, fig, name, tmp_path, dpi):
-    """figures/<name>.png is what ``fig`` draws (RMS <= PIXEL_TOL of 255); compared under the
-    pinned matplotlib series only, since other FreeType/matplotlib versions move pixels."""
+    """figures/<name>.png is what ``fig`` draws (RMS <= PIXEL_TOL of 255), and figures/<name>.pdf
+    draws the same strokes and text (figcheck.compare_pdf); compared under the pinned matplotlib
+    series only, since other FreeType/matplotlib versions move pixels and points."""
     series = pinned_matplotlib_series(repo)
     if not matplotlib.__version__.startswith(series + "."):
         pytest.skip(f"pixels are compared under matplotlib {series}.* only; this is {matplotlib.__version__}")
@@ -49,18 +52,21 @@ def assert_pixels_match(repo, fig, name, tmp_path, dpi):
     shutil.copyfile(repo / f"figures/{name}.png", committed)
     rms = compare_pixels(fresh, committed, tol=PIXEL_TOL)
     assert rms is None, f"figures/{name}.png differs from the current drawing: RMS {rms}"
+    diffs = compare_pdf(save_figure(fig, tmp_path / f"{name}.pdf"), repo / f"figures/{name}.pdf")
+    assert not diffs, f"figures/{name}.pdf differs from the current drawing: " + "; ".join(diffs[:5])
 
 def assert_data_matches(repo, fig, name, update, dpi=None, rtol=RTOL):
     """The plotted data of ``fig`` equal tests/figure_refs/<name>.json (rtol ``rtol``, default RTOL; atol ATOL).
 
-    With ``--update-figure-refs`` (``update``) the reference is rewritten instead, and so is
-    figures/<name>.png when ``dpi`` is given (figures whose committed PNG is drawn here)."""
+    With ``--update-figure-refs`` (``update``) the reference is rewritten instead, and so are
+    figures/<name>.png and .pdf when ``dpi`` is given (figures whose committed files are drawn here)."""
     ref_path = repo / f"tests/figure_refs/{name}.json"
     data = figure_data(fig)
     if update:
         save_reference(data, ref_path)
         if dpi is not None:
             save_figure(fig, repo / f"figures/{name}.png", dpi=dpi)
+            save_figure(fig, repo / f"figures/{name}.pdf")
         pytest.skip("figure references rewritten")
     diffs = compare_figure_data(data, load_reference(ref_path), rtol=rtol, atol=ATOL)
     assert not diffs, "\n".join(diffs[:20])

@@ -35,6 +35,7 @@ from selfalign.io.hdf5 import read_dataset_attrs, read_h5, reproducible_bytes, w
 from selfalign.io.recording import Boxes, Recording, read_boxes, read_lines, write_recording
 from selfalign.model.planar import PlanarProfile
 from selfalign.plots.planar import alignment_figure, drift_figure
+from selfalign.plots.style import LINE_COLORS, SPECIAL, print_check
 from selfalign.stages.planar import planar_recording, planar_results
 
 FIG18 = (1.05, 0.084, 2.2, 0.9)
@@ -281,3 +282,35 @@ def test_figures_match_their_references(repo, stage, update_figure_refs, name):
     figure test's tolerances), so a change of the study or of the drawing shows."""
     fig = (drift_figure if name == "planar_drift" else alignment_figure)({"groups": stage[2]})
     assert_data_matches(repo, fig, name, update_figure_refs)
+
+
+@pytest.mark.parametrize("name", ["planar_drift", "planar_alignment"])
+def test_figures_meet_the_print_standard(stage, name):
+    """Hypothesis (docs/explanation/figures.md): the planar figures print two columns wide (174 mm), their
+    panels lettered a, b, c (d), with no text below 7 pt, no parameter titles and no ASCII mathematics, and
+    every line in a colour of the Okabe-Ito palette, black or grey."""
+    from matplotlib.colors import to_hex
+
+    fig = (drift_figure if name == "planar_drift" else alignment_figure)({"groups": stage[2]})
+    assert print_check(fig) == []
+    assert round(fig.get_figwidth() * 25.4) == 174
+    letters = [ax.get_title(loc="left") for ax in fig.axes if ax.get_title(loc="left")]
+    assert letters == (["a", "b", "c"] if name == "planar_drift" else ["a", "b", "c", "d"])
+    palette = {c.lower() for c in LINE_COLORS} | {"#000000", "#666666"}
+    assert {to_hex(line.get_color()) for ax in fig.axes for line in ax.lines} <= palette
+
+
+def test_angles_where_every_entry_accumulates_are_marked(stage):
+    """Hypothesis (docs page, "To a line"): panel (b) of the alignment figure draws Delta x_d along n in the
+    encoding "dx_zero" of the figure standard exactly at the angles where every entry accumulates at
+    x_stick_min (at_limit 1), for each motion, and not where only some entries do (at_limit 1/2)."""
+    groups = dict(stage[2])
+    planar = groups["line_planar"]
+    groups["line_planar"] = {**planar, "datasets": {**planar["datasets"], "at_limit": np.array([0.5, 1.0])}}
+    fig = alignment_figure({"groups": groups})
+    marked = [line for line in fig.axes[1].lines if line.get_markerfacecolor() == SPECIAL["dx_zero"]["facecolor"]]
+    assert len(marked) == 2
+    along = groups["line_along"]["datasets"]
+    np.testing.assert_allclose(marked[0].get_xdata(), np.degrees(along["angle"][along["at_limit"] == 1.0]),
+                               rtol=0, atol=1e-12)
+    np.testing.assert_allclose(marked[1].get_xdata(), [40.0], rtol=0, atol=1e-12)

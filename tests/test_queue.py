@@ -28,7 +28,8 @@ from selfalign.analysis.queue import (
 from selfalign.io.hdf5 import read_dataset_attrs, read_h5, write_h5
 from selfalign.io.recording import Boxes, Recording, read_boxes, read_logs, read_recording, write_recording
 from selfalign.model.parts import Part
-from selfalign.plots.parts import motion_figure, queue_figure
+from selfalign.plots.parts import HORIZON, motion_figure, queue_figure
+from selfalign.plots.style import LINE_COLORS, SPECIAL, print_check
 from selfalign.solvers.parts_exact import simulate_parts
 from selfalign.stages.parts import queue_recording, queue_results
 
@@ -254,3 +255,36 @@ def test_figure_comparison_catches_a_change(repo, stage_file):
     diffs = compare_figure_data(figure_data(queue_figure(result)),
                                 load_reference(repo / "tests/figure_refs/parts_queue.json"), rtol=RTOL, atol=ATOL)
     assert any(d.startswith("figure.axes[0].lines") for d in diffs), diffs
+
+
+@pytest.mark.parametrize("name", ["parts_queue", "parts_motion"])
+def test_figures_meet_the_print_standard(stage_file, name):
+    """Hypothesis (docs/explanation/figures.md): the queue figures print at a journal width (174 mm for four
+    panels lettered a-d, 84 mm for the trajectories), with no text below 7 pt, no parameter titles and no ASCII
+    mathematics, and every part, line and marker in a colour of the Okabe-Ito palette or black."""
+    result = read_h5(stage_file)
+    fig = (queue_figure if name == "parts_queue" else motion_figure)(result)
+    assert print_check(fig) == []
+    assert round(fig.get_figwidth() * 25.4) == (174 if name == "parts_queue" else 84)
+    if name == "parts_queue":
+        assert [ax.get_title(loc="left") for ax in fig.axes] == ["a", "b", "c", "d"]
+    from matplotlib.colors import to_hex
+    palette = {c.lower() for c in LINE_COLORS} | {"#000000"}
+    assert {to_hex(line.get_color()) for ax in fig.axes for line in ax.lines} <= palette
+
+
+def test_queues_that_never_stop_are_hatched(stage_file):
+    """Hypothesis (docs/explanation/queue.md, "Throughput of a real design"): a queue that runs out of periods
+    before every part stops for good (status HORIZON) is drawn in the encoding "unsettled" of the figure
+    standard, one hatched column at its N and none at a queue that rests, and the legend names it."""
+    result = read_h5(stage_file)
+    design = result["groups"]["design_queue"]["datasets"]
+    design["status"] = np.array([0, HORIZON])
+    fig = queue_figure(result)
+    hatched = [p for p in fig.axes[3].patches if p.get_hatch() == SPECIAL["unsettled"]["hatch"]]
+    assert len(hatched) == 1
+    column = hatched[0].get_x(), hatched[0].get_x() + hatched[0].get_width()
+    np.testing.assert_allclose(column, [1.6, 2.4], rtol=0, atol=1e-12)
+    assert "not every part stops" in [t.get_text() for t in fig.legends[0].texts]
+    design["status"] = np.array([0, 0])
+    assert not [p for p in queue_figure(result).axes[3].patches if p.get_hatch()]

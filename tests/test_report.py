@@ -106,3 +106,22 @@ def test_captions_are_valid_restructuredtext(caption):
     warnings = io.StringIO()
     publish_parts(text, writer="html", settings_overrides={"warning_stream": warnings, "report_level": 2})
     assert warnings.getvalue() == "", warnings.getvalue()
+
+
+def test_figure_index_renders_every_caption_of_the_pipeline(small_pipeline):
+    """The small pipeline writes figures/README.md with an entry for every figure it drew, each
+    with its caption rendered (no template expression left) and with its PNG and PDF files;
+    every PDF is one or two columns wide (the figure standard, selfalign.plots.style)."""
+    from figcheck import pdf_page_size
+
+    ran, _, rc, out = small_pipeline
+    assert rc == 0, out
+    drawn = sorted(p.stem for p in (ran / "figures").glob("*.png"))
+    index = (ran / "figures/README.md").read_text()
+    entries = re.findall(r"^## (\S+)$", index, flags=re.M)
+    assert entries == sorted(entries) and entries == drawn
+    assert "{{" not in index and "{%" not in index
+    for name in drawn:
+        assert f"[pdf]({name}.pdf)" in index
+        width, _ = pdf_page_size(ran / f"figures/{name}.pdf")
+        assert min(abs(width - 84.0), abs(width - 174.0)) < 0.05, (name, width)

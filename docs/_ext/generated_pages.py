@@ -11,7 +11,8 @@ Written into ``docs/reference/generated/`` (not in git) when the builder starts:
 - ``statuses.md``: every status and reason of a run's end with its message template, from
   :mod:`selfalign.solvers.outcomes`;
 - ``gallery.md`` (one level up, ``docs/gallery.md``): every figure of the workflow with the
-  caption the Snakemake report shows (``workflow/report/*.rst``).
+  caption the Snakemake report shows, from the index the workflow writes, ``figures/README.md``
+  (captions rendered from ``workflow/report/*.rst``).
 """
 
 from __future__ import annotations
@@ -138,27 +139,31 @@ def statuses_page() -> str:
     return "\n".join(lines) + "\n"
 
 
-def _figure_names() -> list[tuple[str, str]]:
-    """(figure, caption stem) of every figure the workflow draws, in file-name order."""
-    rules = (ROOT / "workflow/rules/figures.smk").read_text()
-    shared = "design" if 'CAPTIONS = {f"design_{name}": "design"' in rules else None
-    names = []
-    for png in sorted((ROOT / "figures").glob("*.png")):
-        stem = png.stem
-        caption = shared if shared and stem.startswith("design_") else stem
-        names.append((stem, caption))
-    return names
+def _index_entries() -> list[tuple[str, str, str]]:
+    """(figure, category, caption) of every figure in ``figures/README.md``, the index the
+    workflow writes with every caption rendered (rule ``write_figure_index``), in its order."""
+    text = (ROOT / "figures/README.md").read_text()
+    entries = []
+    for block in text.split("\n## ")[1:]:
+        name, _, rest = block.partition("\n")
+        category_line, image, caption = (part.strip() for part in rest.strip().split("\n\n", 2))
+        if not image.startswith(f"![{name}]"):
+            raise ValueError(f"figures/README.md: the entry of {name} has no image line")
+        entries.append((name.strip(), category_line.split(" · ")[0], caption))
+    return entries
 
 
 def gallery_page() -> str:
     lines = ["# Gallery", "",
-             "Every figure the workflow draws (`snakemake -c2` writes them to `figures/`), with the caption "
-             "of the Snakemake report. Figures named `figNN` are the paper's; the others go beyond it.", ""]
-    for stem, caption in _figure_names():
-        text = (ROOT / "workflow/report" / f"{caption}.rst").read_text().strip()
+             "Every figure the workflow draws (`snakemake -c2` writes them to `figures/`, as PNG and as "
+             "PDF at print size), with the caption of the Snakemake report, from the index "
+             "`figures/README.md` the workflow writes. Figures named `figNN` are the paper's; the others go "
+             "beyond it.", ""]
+    for stem, category, caption in _index_entries():
         title = f"Fig. {int(stem[3:])}" if re.fullmatch(r"fig\d\d", stem) else stem.replace("_", " ")
-        lines += [f"## {title}", "", "```{eval-rst}", f".. figure:: /../figures/{stem}.png",
-                  "   :width: 100%", "", *("   " + line for line in text.splitlines()), "```", ""]
+        lines += [f"## {title}", "", f"{category}; vector drawing: `figures/{stem}.pdf`.", "",
+                  "```{eval-rst}", f".. figure:: /../figures/{stem}.png",
+                  "   :width: 100%", "", *("   " + line for line in caption.splitlines()), "```", ""]
     return "\n".join(lines)
 
 

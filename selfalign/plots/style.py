@@ -220,9 +220,17 @@ def setting_title(**values) -> str:
     return ", ".join(f"{SETTING_SYMBOLS[name]} = {value:g}" for name, value in values.items())
 
 
+#: The ASCII relations of the case labels (selfalign.analysis.classification.CASE_LABELS) in mathtext.
+_RELATIONS = {">=": r"\geq", "<=": r"\leq"}
+
+
 def case_label(case: int) -> str:
-    """The tick of ``case`` on a case colour bar, e.g. "1 stick-slip, x' >= 0"."""
-    return f"{case} {CASE_LABELS[case]}"
+    """The tick of ``case`` on a case colour bar, its label of Table 1 in mathtext, e.g.
+    "1 stick-slip, $x' \\geq 0$"."""
+    label = CASE_LABELS[case]
+    for ascii_relation, tex in _RELATIONS.items():
+        label = label.replace(f"x' {ascii_relation} 0", f"$x' {tex} 0$")
+    return f"{case} {label}"
 
 
 def cell_edges(centres) -> np.ndarray:
@@ -259,12 +267,12 @@ def case_map(ax, y2, y3, case):
 
 def label_regions(ax, y2, y3, codes, labels: dict, colors: dict, min_cells: int = 6):
     """Write ``labels[code]`` on the map, once per code, at the cell deepest inside the code's
-    largest region (farthest from any other code), in black or white for contrast with
-    ``colors[code]``; codes with fewer than ``min_cells`` cells are left to the colour bar.
+    cells (the last to go when they are eroded one cell at a time, the one nearest their middle),
+    in black or white for contrast with ``colors[code]``; codes with fewer than ``min_cells``
+    cells are left to the colour bar.
 
     Returns the Text artists drawn."""
     from matplotlib.colors import to_rgb
-    from scipy import ndimage
 
     codes = np.asarray(codes, dtype=float)
     texts = []
@@ -272,11 +280,15 @@ def label_regions(ax, y2, y3, codes, labels: dict, colors: dict, min_cells: int 
         inside = codes == code
         if np.count_nonzero(inside) < min_cells:
             continue
-        regions, n = ndimage.label(inside)
-        sizes = ndimage.sum_labels(inside, regions, index=np.arange(1, n + 1))
-        largest = regions == 1 + int(np.argmax(sizes))
-        depth = ndimage.distance_transform_edt(np.pad(largest, 1))[1:-1, 1:-1]
-        i, j = np.unravel_index(int(np.argmax(depth)), depth.shape)
+        while True:
+            # Erode by one cell (four neighbours; the edge of the map erodes too, keeping labels off it).
+            padded = np.pad(inside, 1)
+            core = inside & padded[:-2, 1:-1] & padded[2:, 1:-1] & padded[1:-1, :-2] & padded[1:-1, 2:]
+            if not core.any():
+                break
+            inside = core
+        cells = np.argwhere(inside)
+        i, j = cells[np.argmin(np.sum((cells - cells.mean(axis=0)) ** 2, axis=1))]
         r, g, b = to_rgb(colors[code])
         ink = "k" if 0.299 * r + 0.587 * g + 0.114 * b > 0.5 else "w"
         texts.append(ax.text(y2[i], y3[j], label, ha="center", va="center", color=ink,

@@ -8,14 +8,16 @@ workflow rule per figure calls :func:`draw`; the plot functions in
 :mod:`selfalign.plots` do the drawing, and what a figure needs computed on top of
 its results (the case of each Fig. 9 run, the displacement of the mass relative to the
 table for Fig. 6) is computed here, not in the plot; Fig. 15 gets the lengths of
-Sect. 7.1 drawn onto it (:mod:`selfalign.plots.annotate`).
+Sect. 7.1 drawn onto it (:mod:`selfalign.plots.annotate`), and Fig. 2 the workflow's stop zone
+(:class:`~selfalign.StopZone`), whose own coefficient it draws.
 """
 
 from __future__ import annotations
 
 from ..analysis.classification import classify
 from ..io.simulation_result import scene_from_result
-from ..plots.accumulation import figure_14, figure_15, figure_16, figure_17, figure_18
+from ..model.friction import StopZone
+from ..plots.accumulation import figure_02, figure_14, figure_15, figure_16, figure_17, figure_18
 from ..plots.annotate import overshoot_dimensions
 from ..plots.classification import figure_04, figure_05, figure_06, figure_08, figure_map
 from ..plots.design import figure_design
@@ -78,6 +80,8 @@ def _fig15(results, setting):
 
 #: name -> draw(results, **options): the results are the figure's inputs in the workflow's order.
 FIGURES = {
+    # Drawn from the stop zone of the workflow's accumulation stage (no result file): x_mu = 0.
+    "fig02": lambda results, zone: figure_02(StopZone(x_mu=0.0, w=zone["w"], c_mu=zone["c_mu"])),
     "fig03": lambda results: figure_03(*results),
     "fig04": lambda results: figure_04(*results),
     "fig05": lambda results: figure_05(*results),

@@ -25,6 +25,9 @@ for _name in scenes("accuracy"):
 
 #: name -> (report category, input result files, options of selfalign.stages.figures.draw)
 FIGURES = {
+    # The stop zone of Sect. 3.3 (Fig. 2), drawn from the model's friction coefficient itself (no
+    # result file) with the accumulation stage's zone; after changing the model: --forcerun plot_fig02.
+    "fig02": (SIMULATION_FIGURES, [], {"zone": ACCUMULATION["zone"]}),
     "fig03": (SIMULATION_FIGURES, [results("simulation", FIGURE_CONFIG["fig03"]["scene"])], {}),
     "fig04": (STEADY_STATE_FIGURES, [results("classification", "fig04")], {}),
     "fig05": (STEADY_STATE_FIGURES, [results("classification", "fig05")], {}),
@@ -55,6 +58,17 @@ FIGURES = {
 }
 #: Figures that share a caption: name -> caption file stem (default: the name).
 CAPTIONS = {f"design_{name}": "design" for name in DESIGNS}
+#: Every figure with a caption, for the figure index (rule write_figure_index):
+#: name -> (caption file stem, report category, options of its drawing).
+FIGURE_CAPTIONS = {}
+
+
+def captioned_figure(name, category, caption=None, options=None):
+    """figures/<name>.<first format> as a report output with its caption,
+    workflow/report/<caption or name>.rst, registered for the figure index."""
+    stem = caption or name
+    FIGURE_CAPTIONS[name] = (stem, category, options or {})
+    return report(figure(name, FIGURE_FORMATS[0]), caption=f"../report/{stem}.rst", category=category)
 
 
 for name, (category, inputs, options) in FIGURES.items():
@@ -65,8 +79,7 @@ for name, (category, inputs, options) in FIGURES.items():
         input:
             inputs,
         output:
-            report(figure(name, FIGURE_FORMATS[0]), caption=f"../report/{CAPTIONS.get(name, name)}.rst",
-                   category=category),
+            captioned_figure(name, category, CAPTIONS.get(name), options),
             *(figure(name, fmt) for fmt in FIGURE_FORMATS[1:]),
         params:
             figure=name,

@@ -26,8 +26,7 @@ rule plot_fig06_revisited:
     input:
         results("optimal_motion", "fig06_revisited"),
     output:
-        report(figure("fig06_revisited", FIGURE_FORMATS[0]), caption="../report/fig06_revisited.rst",
-               category=STEADY_STATE_FIGURES),
+        captioned_figure("fig06_revisited", STEADY_STATE_FIGURES),
         *(figure("fig06_revisited", fmt) for fmt in FIGURE_FORMATS[1:]),
     params:
         dpi=FIGURE_CONFIG["dpi"],

@@ -30,10 +30,8 @@ rule plot_queue:
     input:
         results("parts", "queue"),
     output:
-        report(figure("parts_queue", FIGURE_FORMATS[0]), caption="../report/parts_queue.rst",
-               category=PARTS_FIGURES),
-        report(figure("parts_motion", FIGURE_FORMATS[0]), caption="../report/parts_motion.rst",
-               category=PARTS_FIGURES),
+        captioned_figure("parts_queue", PARTS_FIGURES),
+        captioned_figure("parts_motion", PARTS_FIGURES),
         *(figure(name, fmt) for name in ("parts_queue", "parts_motion") for fmt in FIGURE_FORMATS[1:]),
     params:
         dpi=FIGURE_CONFIG["dpi"],

@@ -26,10 +26,8 @@ rule plot_planar:
     input:
         results("planar", "planar"),
     output:
-        report(figure("planar_drift", FIGURE_FORMATS[0]), caption="../report/planar_drift.rst",
-               category=PLANAR_FIGURES),
-        report(figure("planar_alignment", FIGURE_FORMATS[0]), caption="../report/planar_alignment.rst",
-               category=PLANAR_FIGURES),
+        captioned_figure("planar_drift", PLANAR_FIGURES),
+        captioned_figure("planar_alignment", PLANAR_FIGURES),
         *(figure(name, fmt) for name in ("planar_drift", "planar_alignment") for fmt in FIGURE_FORMATS[1:]),
     params:
         dpi=FIGURE_CONFIG["dpi"],

@@ -42,3 +42,25 @@ for name, inputs in TABLES.items():
 
 
 TARGETS.extend(results("tables", name, "html") for name in TABLES)
+
+
+# figures/README.md: every figure with its files and its caption, rendered as in the report, so
+# that figures/ explains itself; the documentation's gallery is made from it.
+rule write_figure_index:
+    input:
+        [figure(name, fmt) for name in FIGURE_CAPTIONS for fmt in FIGURE_FORMATS],
+    output:
+        "figures/README.md",
+    params:
+        figures=[{"name": name, "caption": f"workflow/report/{stem}.rst", "category": category, "options": options}
+                 for name, (stem, category, options) in sorted(FIGURE_CAPTIONS.items())],
+        formats=FIGURE_FORMATS,
+    log:
+        log_file("figures", "index"),
+    conda:
+        ENV
+    script:
+        "../scripts/write_figure_index.py"
+
+
+TARGETS.append("figures/README.md")
