@@ -173,8 +173,8 @@ def test_simulation_figures_meet_the_print_standard(simulation_figures, name):
 
 def test_fig09_names_each_case_in_its_colour(repo, simulation_figures):
     """Fig. 9 (Sect. 5.1, Table 1) names the case of each panel by a swatch in its case colour
-    (style.CASE_COLORS, as in the case maps) and its description in mathtext: case 1 reads
-    "x' >= 0" as $x' \\geq 0$."""
+    (style.CASE_COLORS, as in the case maps) and its label of Table 1 in mathtext (style.case_label, the
+    case maps' colour-bar ticks): case 1 reads "x' >= 0" as $x' \\geq 0$."""
     from matplotlib.colors import to_hex
 
     fig = simulation_figures["fig09"]
@@ -183,7 +183,7 @@ def test_fig09_names_each_case_in_its_colour(repo, simulation_figures):
     assert cases == [1, 2, 3, 4, 5]
     assert [to_hex(legend.legend_handles[0].get_facecolor()) for legend in legends] == [
         to_hex(style.CASE_COLORS[case]) for case in cases]
-    assert legends[0].get_texts()[0].get_text() == "case 1: stick-slip, $x' \\geq 0$"
+    assert legends[0].get_texts()[0].get_text() == "case 1 stick-slip, $x' \\geq 0$"
 
 
 def test_fig12_force_panel_draws_minus_ydd_equal_to_friction_in_stick(repo, simulation_figures, tmp_path):

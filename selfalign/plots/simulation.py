@@ -18,11 +18,10 @@ import math
 import numpy as np
 
 from ..analysis.accuracy import reference_solver
-from ..analysis.classification import CASE_LABELS
 from ..io.simulation_result import scene_from_result, trajectory_from_result
 from ..solvers.outcomes import EventKind
 from .profile import ZERO_COLOR, mark_times
-from .style import CASE_COLORS, OKABE_ITO, new_figure, panel_letters, styled
+from .style import CASE_COLORS, OKABE_ITO, case_label, new_figure, panel_letters, styled
 
 #: Colour of the object's quantities (x, x', F_f) and of the table's (y, y'', -y'').
 OBJECT_COLOR = OKABE_ITO["black"]
@@ -72,19 +71,6 @@ def figure_03(result: dict):
 # Fig. 9: the five cases of Table 1
 # ---------------------------------------------------------------------------------------
 
-#: ASCII comparisons of the case descriptions, in mathtext.
-_MATH = {"x' >= 0": r"$x' \geq 0$", "x' <= 0": r"$x' \leq 0$"}
-
-
-def case_text(case: int) -> str:
-    """The case of Table 1 in words, in mathtext: ``case_text(1)`` is
-    "case 1: stick-slip, $x' \\geq 0$"."""
-    label = CASE_LABELS[case]
-    for ascii_math, math_text in _MATH.items():
-        label = label.replace(ascii_math, math_text)
-    return f"case {case}: {label}"
-
-
 def case_histories(fig, panels: list[dict]):
     """Fig. 9: one pair of axes per case sharing the time axis, x' above (black) and the
     table's y'' below (steps, with the friction bounds y'' = +-1 dashed: the mass can
@@ -92,7 +78,8 @@ def case_histories(fig, panels: list[dict]):
 
     Separate axes keep the stick segments (x' = 0) and the phases of y'' apart.  Each entry
     of ``panels`` holds ``t``, ``v``, ``ydd`` and ``case`` (of Table 1), which a swatch of its
-    colour (:data:`selfalign.plots.style.CASE_COLORS`) names above the pair; ``ydd`` is
+    colour (:data:`selfalign.plots.style.CASE_COLORS`) and label (:func:`selfalign.plots.style.case_label`)
+    names above the pair; ``ydd`` is
     drawn as a step function, so the samples must include the switch times.
     """
     from matplotlib.lines import Line2D
@@ -110,7 +97,7 @@ def case_histories(fig, panels: list[dict]):
         ax_v.set_ylabel("$x'$")
         ax_v.tick_params(labelbottom=False)
         swatch = Patch(facecolor=CASE_COLORS[panel["case"]], edgecolor="k", linewidth=0.5,
-                       label=case_text(panel["case"]))
+                       label=f"case {case_label(panel['case'])}")
         ax_v.legend(handles=[swatch], loc="lower left", bbox_to_anchor=(0.03, 1.0), borderaxespad=0.2,
                     borderpad=0.0, handlelength=1.2, handleheight=0.8)
         ax_a.plot(t, ydd, color=TABLE_COLOR, drawstyle="steps-post", label="$y''$")
