@@ -273,7 +273,7 @@ def crossings(ax, text):
     hit = [line.get_label() for line in ax.lines
            if line.get_transform().transform_path(line.get_path()).intersects_bbox(box, filled=False)]
     hit += [c.get_label() for c in ax.collections
-            if box.padded(4.0).count_contains(c.get_offset_transform().transform(c.get_offsets()))]
+            if box.padded(2.0 * ax.figure.dpi / 72).count_contains(c.get_offset_transform().transform(c.get_offsets()))]
     return hit
 
 

@@ -227,6 +227,8 @@ REFERENCE_STYLE = {"exact": {"color": OKABE_ITO["black"], "linestyle": "--", "li
 TARGET_STYLE = {"color": OKABE_ITO["reddish purple"], "linestyle": "-.", "linewidth": 0.9}
 FLOOR_STYLE = {"color": "0.5", "linestyle": ":", "linewidth": 1.0}
 SLOPE_STYLE = {"color": "0.6", "linewidth": 0.8}
+#: Radius of the run markers (size s = 12 pt^2), in points.
+MARKER_RADIUS = 0.5 * math.sqrt(12.0)
 #: Where a panel's note goes, tried in this order: (x, y) in axes fraction and its alignment; the
 #: low places keep clear of the rounding level, drawn near the bottom.
 NOTE_PLACES = tuple((x, y, ha, va) for y, va in ((0.97, "top"), (0.08, "bottom"), (0.5, "center"))
@@ -265,7 +267,7 @@ def covers_data(ax, bbox) -> bool:
         if line.get_visible() and line.get_transform().transform_path(line.get_path()).intersects_bbox(
                 bbox, filled=False):
             return True
-    markers = bbox.padded(4.0)  # a marker's half width, in display units
+    markers = bbox.padded(MARKER_RADIUS * ax.figure.dpi / 72.0)  # display units are pixels
     return any(markers.count_contains(c.get_offset_transform().transform(c.get_offsets())) for c in ax.collections)
 
 
@@ -309,7 +311,8 @@ def work_precision(fig, studies: list[dict]):
                 ax.plot(data["cpu_time"], shown, color=style["color"], linewidth=0.8, label=style["label"])
                 norm, colors = _setting_scale(setting, cmap, data[setting])
                 scales[method] = ax.scatter(data["cpu_time"], shown, c=data[setting], cmap=colors, norm=norm,
-                                            marker=style["marker"], s=12, edgecolors=style["color"],
+                                            marker=style["marker"], s=(2 * MARKER_RADIUS) ** 2,
+                                            edgecolors=style["color"],
                                             linewidths=0.5, zorder=3)
             slope_guide(ax, study["moreau"]["cpu_time"], study["moreau"][kind], "slope $-1$ (first order)")
             method, options = study["reference"]
