@@ -109,6 +109,29 @@ def test_fig07_comparison_catches_stroke_change(repo, fig07_scene, tmp_path):
     assert any(d.startswith("figure.axes[0].lines[0].y") for d in diffs), diffs
 
 
+def test_fig07_meets_the_print_standard(fig07_scene, tmp_path):
+    """Fig. 7 prints one column wide (84 mm) with no text below 7 pt, no title but the panel letters
+    a, b, c and no ASCII mathematics (selfalign.plots.style.print_check); the equal areas of items 5
+    and 6 (Sect. 4.4.3) are shaded in Okabe-Ito blue and vermillion, not tab:blue and tab:red; the
+    times t0 ... t3 are named on the top axis, clear of the panel letter."""
+    from matplotlib.colors import to_hex
+
+    from selfalign.plots import style
+
+    fig = build_fig07(fig07_scene, tmp_path)
+    assert style.print_check(fig) == []
+    assert round(fig.get_figwidth() / style.MM) == 84
+    panels = [ax for ax in fig.axes if ax.get_title("left")]
+    assert [ax.get_title("left") for ax in panels] == ["a", "b", "c"]
+    for ax in panels[1:]:
+        assert [to_hex(c.get_facecolor()[0], keep_alpha=False) for c in ax.collections] == [
+            style.OKABE_ITO["blue"].lower(), style.OKABE_ITO["vermillion"].lower()]
+    (top,) = panels[0].child_axes
+    assert [t.get_text() for t in top.get_xticklabels()] == [
+        "$t_0$", "$t_1$", "$t_{y'=0,1}$", "$t_2$", "$t_{y'=0,2}$", "$t_3$"]
+    assert panels[0].texts[0].get_text() == r"$y_{\mathrm{ini}}$" and panels[0].texts[0].get_ha() == "left"
+
+
 def build_fig13(scene, v20, tmp_path):
     """The convergence stage's steps without Snakemake: scene -> HDF5 -> figure."""
     from selfalign.plots.stability import figure_13

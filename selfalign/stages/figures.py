@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..analysis.classification import CASE_LABELS, classify
+from ..analysis.classification import classify
 from ..analysis.finite_jerk import RAMPS_TOO_LONG, jerk_profile
 from ..io.simulation_result import scene_from_result
 from ..model.friction import StopZone
@@ -36,7 +36,40 @@ from .finite_jerk import grids_from_result
 
 def _fig09(results, periods):
     cases = [classify(scene_from_result(r).profile) for r in results]
-    return figure_09(results, cases, CASE_LABELS, periods=periods)
+    return figure_09(results, cases, periods=periods)
+
+
+def accuracy_figure(scene) -> str:
+    """The work-precision figure that draws the accuracy study of ``scene``, by family of scenes:
+    ``accuracy_parts`` (several parts), ``accuracy_planar`` (planar motion), ``accuracy_effects``
+    (one part under an effect beyond the paper's model: a friction law other than Coulomb's, or
+    finite jerk) or ``accuracy_cost`` (the paper's model).
+
+    Parameters
+    ----------
+    scene : selfalign.Scene
+        A scene of the accuracy stage.
+
+    Returns
+    -------
+    str
+        The figure's name.
+
+    Examples
+    --------
+    >>> import selfalign as sa
+    >>> scene = sa.Scene(profile=sa.ThreePhaseProfile(1.05, 0.084, 2.2, 0.9), periods=4)
+    >>> accuracy_figure(scene), accuracy_figure(scene.replace(friction=sa.FrictionLaw("static_kinetic", 1.3)))
+    ('accuracy_cost', 'accuracy_effects')
+    """
+    if scene.parts is not None:
+        return "accuracy_parts"
+    if scene.planar:
+        return "accuracy_planar"
+    profile = scene.profile.params()
+    if scene.friction.kind != "coulomb" or "ramp" in profile or "jerk" in profile:
+        return "accuracy_effects"
+    return "accuracy_cost"
 
 
 def _fig15(results, setting):
@@ -91,9 +124,11 @@ FIGURES = {
     "fig16": lambda results, settings: figure_16(*results, [setting_group(*s) for s in settings]),
     "fig17": lambda results: figure_17(*results),  # fig17.h5, fig18.h5 (its setting is marked)
     "fig18": lambda results: figure_18(*results),
+    # One work-precision figure per family of scenes (accuracy_figure).
     "accuracy_cost": figure_accuracy_cost,
-    "accuracy_parts": figure_accuracy_cost,  # the scenes with several parts
-    "accuracy_planar": figure_accuracy_cost,  # the scenes of planar motion
+    "accuracy_effects": figure_accuracy_cost,
+    "accuracy_parts": figure_accuracy_cost,
+    "accuracy_planar": figure_accuracy_cost,
     "static_friction": _static_friction,
     "stribeck_friction": lambda results: figure_stribeck_friction(*results),
     "finite_jerk": lambda results: finite_jerk_figure(grids_from_result(*results)[0]),

@@ -4,6 +4,8 @@
 # restyling never reruns a simulation); the first format carries the caption,
 # workflow/report/<name>.rst, into `snakemake --report`.
 
+from selfalign.stages.figures import accuracy_figure
+
 FIGURE_CONFIG = config["figures"]
 FIGURE_FORMATS = FIGURE_CONFIG["formats"]
 SIMULATION_FIGURES = "Simulation (Sects. 2-5)"
@@ -15,10 +17,11 @@ DESIGN_FIGURES = "Designing a self-aligning station"
 EFFECT_FIGURES = "Beyond the paper's model: finite jerk and friction laws"
 PORTRAITS = ACCUMULATION["portraits"]["settings"]
 
-#: The accuracy scenes with several parts: their studies go to figure accuracy_parts.
-ACCURACY_PARTS = [n for n in scenes("accuracy") if SCENES[n].parts is not None]
-#: The accuracy scenes of planar motion: their studies go to figure accuracy_planar.
-ACCURACY_PLANAR = [n for n in scenes("accuracy") if SCENES[n].planar]
+#: The work-precision figures, one per family of accuracy scenes (selfalign.stages.figures.accuracy_figure:
+#: the paper's model, effects beyond it, several parts, planar motion) -> their scenes, in the config's order.
+ACCURACY_FIGURES = {}
+for _name in scenes("accuracy"):
+    ACCURACY_FIGURES.setdefault(accuracy_figure(SCENES[_name]), []).append(_name)
 
 #: name -> (report category, input result files, options of selfalign.stages.figures.draw)
 FIGURES = {
@@ -45,13 +48,8 @@ FIGURES = {
     # Fig. 17 marks the setting of Fig. 18, read from its result.
     "fig17": (ACCUMULATION_FIGURES, [results("accumulation", "fig17"), results("accumulation", "fig18")], {}),
     "fig18": (ACCUMULATION_FIGURES, [results("accumulation", "fig18")], {}),
-    "accuracy_cost": (SOLVER_FIGURES, [results("accuracy", n) for n in scenes("accuracy")
-                                       if n not in ACCURACY_PARTS + ACCURACY_PLANAR], {}),
-    # The accuracy scenes with several parts (no solve_ivp) and of planar motion, in figures of their own.
-    **({"accuracy_parts": (SOLVER_FIGURES, [results("accuracy", n) for n in ACCURACY_PARTS], {})}
-       if ACCURACY_PARTS else {}),
-    **({"accuracy_planar": (SOLVER_FIGURES, [results("accuracy", n) for n in ACCURACY_PLANAR], {})}
-       if ACCURACY_PLANAR else {}),
+    **{name: (SOLVER_FIGURES, [results("accuracy", n) for n in names], {})
+       for name, names in ACCURACY_FIGURES.items()},
     "static_friction": (EFFECT_FIGURES, [results("effects", "static_friction")], {}),
     "stribeck_friction": (EFFECT_FIGURES, [results("effects", "stribeck")], {}),
     # The finite-jerk study: the steady planes, and the stopping over Fig. 17's plane.
