@@ -134,9 +134,9 @@ def small_config(repo: Path) -> dict:
         return {"from": lo, "to": hi, "count": count, "scale": "linear"}
 
     # Trajectory and simulation scenes (milliseconds each) stay: the figures read them.
-    # One accuracy scene of one part, one of several parts and one of planar motion (figures accuracy_cost,
-    # accuracy_parts and accuracy_planar).
-    s["accuracy"].update(scenes=["accuracy_steady", "accuracy_parts_zone", "accuracy_planar"],
+    # One accuracy scene of each family: one part under the paper's model and under static/kinetic friction,
+    # several parts, planar motion (figures accuracy_cost, accuracy_effects, accuracy_parts, accuracy_planar).
+    s["accuracy"].update(scenes=["accuracy_steady", "accuracy_static", "accuracy_parts_zone", "accuracy_planar"],
                          fit_min_steps_per_period=10,
                          min_timing=0.001, moreau_steps_per_period={"from": 10, "to": 1000, "count": 3, "scale": "log"},
                          ivp_rtol={"from": 1.0e-3, "to": 1.0e-5, "count": 2, "scale": "log"})

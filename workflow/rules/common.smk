@@ -55,6 +55,19 @@ def figure(name, fmt="png"):
     return f"figures/{name}.{fmt}"
 
 
+#: Every figure with a caption, for the figure index figures/README.md (written by write_figure_index):
+#: name -> (caption file stem, report category, options of its drawing).
+FIGURE_CAPTIONS = {}
+
+
+def captioned_figure(name, category, caption=None, options=None):
+    """figures/<name>.<first format> as a report output with its caption,
+    workflow/report/<caption or name>.rst, registered for the figure index."""
+    stem = caption or name
+    FIGURE_CAPTIONS[name] = (stem, category, options or {})
+    return report(figure(name, config["figures"]["formats"][0]), caption=f"../report/{stem}.rst", category=category)
+
+
 def _load_scenes():
     """Every scene named in the config, validated; a SceneError becomes a WorkflowError."""
     names = {n for stage in config["stages"] for n in scenes(stage)}

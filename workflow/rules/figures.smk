@@ -60,17 +60,6 @@ FIGURES = {
 }
 #: Figures that share a caption: name -> caption file stem (default: the name).
 CAPTIONS = {f"design_{name}": "design" for name in DESIGNS}
-#: Every figure with a caption, for the figure index (rule write_figure_index):
-#: name -> (caption file stem, report category, options of its drawing).
-FIGURE_CAPTIONS = {}
-
-
-def captioned_figure(name, category, caption=None, options=None):
-    """figures/<name>.<first format> as a report output with its caption,
-    workflow/report/<caption or name>.rst, registered for the figure index."""
-    stem = caption or name
-    FIGURE_CAPTIONS[name] = (stem, category, options or {})
-    return report(figure(name, FIGURE_FORMATS[0]), caption=f"../report/{stem}.rst", category=category)
 
 
 for name, (category, inputs, options) in FIGURES.items():
