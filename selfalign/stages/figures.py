@@ -13,6 +13,8 @@ Sect. 7.1 drawn onto it (:mod:`selfalign.plots.annotate`).
 
 from __future__ import annotations
 
+import numpy as np
+
 from ..analysis.classification import CASE_LABELS, classify
 from ..io.simulation_result import scene_from_result
 from ..plots.accumulation import figure_14, figure_15, figure_16, figure_17, figure_18
@@ -23,7 +25,7 @@ from ..plots.effects import figure_static_friction, figure_stribeck_friction
 from ..plots.finite_jerk import finite_jerk_figure
 from ..plots.profile import figure_07
 from ..plots.simulation import figure_03, figure_09, figure_12, figure_accuracy_cost
-from ..plots.stability import figure_13
+from ..plots.stability import figure_13, figure_floquet_map
 from .accumulation import setting_group
 from .classification import fig06_mass_displacement
 from .finite_jerk import grids_from_result
@@ -43,6 +45,18 @@ def _fig15(results, setting):
     return overshoot_dimensions(fig.axes[0], a["x_mu"], a["overshoot_min"], a["overshoot_max"], a["dx_d"])
 
 
+def _floquet_map(results):
+    """The second Floquet multiplier over a stability grid against eq. (33): lambda2 = c4 =
+    (y2'' - 1)(y3'' - 1) / ((y2'' + 1)(y3'' + 1)) in case 4 (slip-slip), 0 in cases 1, 2, 3 and 5
+    (Sect. 6.1), NaN in case 0."""
+    (result,) = results
+    d = result["datasets"]
+    y2, y3 = np.meshgrid(d["y2"], d["y3"], indexing="ij")
+    c4 = (y2 - 1.0) * (y3 - 1.0) / ((y2 + 1.0) * (y3 + 1.0))
+    eq33 = np.where(d["case"] == 4, c4, np.where(d["case"] > 0, 0.0, np.nan))
+    return figure_floquet_map(result, eq33)
+
+
 #: name -> draw(results, **options): the results are the figure's inputs in the workflow's order.
 FIGURES = {
     "fig03": lambda results: figure_03(*results),
@@ -56,6 +70,7 @@ FIGURES = {
     "fig11": lambda results, f_max: figure_map(*results, f_max),
     "fig12": lambda results: figure_12(*results),
     "fig13": lambda results: figure_13(*results),
+    "floquet_fig17": _floquet_map,
     "fig14": lambda results, setting: figure_14(*results, setting_group(*setting)),
     "fig15": _fig15,
     "fig16": lambda results, settings: figure_16(*results, [setting_group(*s) for s in settings]),
