@@ -19,6 +19,7 @@ import numpy as np
 from matplotlib.colors import LogNorm, to_rgb
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch, Rectangle
+from matplotlib.ticker import NullFormatter
 
 from ..analysis.classification import DECISION_TREE, Decision
 from .style import (
@@ -68,10 +69,12 @@ def case_colour_bar(mesh):
 ROUNDING_FLOOR = 1e-6
 
 
-def objective_sweep(fig, x, f_exact, f_moreau, xlabel: str, moreau_label: str = "time-stepping"):
+def objective_sweep(fig, x, f_exact, f_moreau, xlabel: str, moreau_label: str = "time-stepping",
+                    legend_loc: str = "best"):
     """f (eq. 11) along a parameter sweep: (a) exact solver (line) and time-stepping
-    (circles), log-log; (b) the relative difference of the time-stepping value, with the
-    differences below :data:`ROUNDING_FLOOR` drawn as triangles on the floor."""
+    (circles), log-log, with the legend at ``legend_loc``; (b) the relative difference of the
+    time-stepping value, with the differences below :data:`ROUNDING_FLOOR` drawn as triangles
+    on the floor."""
     x, f_exact, f_moreau = (np.asarray(a, dtype=float) for a in (x, f_exact, f_moreau))
     ax_f, ax_d = fig.subplots(2, 1, sharex=True, height_ratios=[2.2, 1])
     ax_f.loglog(x, f_exact, color="k", label="exact solver")
@@ -83,37 +86,35 @@ def objective_sweep(fig, x, f_exact, f_moreau, xlabel: str, moreau_label: str = 
         rel = np.abs(f_moreau / f_exact - 1.0)
     rounding = rel < ROUNDING_FLOOR
     ax_d.loglog(x[~rounding], rel[~rounding], linestyle="none", marker="o", color=LINE_COLORS[0])
-    exponents = np.floor(np.log10(rel[rounding & (rel > 0)])).astype(int) if rounding.any() else np.array([0])
-    span = (rf"$10^{{{exponents.min()}}}$ to $10^{{{exponents.max() + 1}}}$" if exponents.size
-            else "0")  # every one of them exactly 0
     floor = ax_d.plot(x[rounding], np.full(np.count_nonzero(rounding), ROUNDING_FLOOR), linestyle="none",
                       marker="v", markerfacecolor="none", color=LINE_COLORS[0],
-                      label=rf"(b) below $10^{{{np.log10(ROUNDING_FLOOR):.0f}}}$ ({span}), drawn at the floor")
+                      label=rf"(b) below $10^{{{np.log10(ROUNDING_FLOOR):.0f}}}$, drawn at the floor")
     ax_d.set_ylim(ROUNDING_FLOOR / 2, 2.0)
     ax_d.set_ylabel(r"$|f_{\mathrm{ts}} / f_{\mathrm{exact}} - 1|$")
     ax_d.set_xlabel(xlabel)
     ax_d.grid(True, which="major", linewidth=0.4, alpha=0.5)
     handles = ax_f.get_lines() + (floor if rounding.any() else [])
-    ax_f.legend(handles=handles, loc="best")
+    ax_f.legend(handles=handles, loc=legend_loc)
     panel_letters([ax_f, ax_d])
     return fig
 
 
-def _sweep_figure(result, swept: str, xlabel: str):
+def _sweep_figure(result, swept: str, xlabel: str, legend_loc: str):
     d = result["datasets"]
-    return objective_sweep(new_figure("single", 95), d[swept], d["f_exact"], d["f_moreau"], xlabel)
+    return objective_sweep(new_figure("single", 95), d[swept], d["f_exact"], d["f_moreau"], xlabel,
+                           legend_loc=legend_loc)
 
 
 @styled
 def figure_04(result):
     """Fig. 4: f against dt (results/classification/fig04.h5)."""
-    return _sweep_figure(result, "dt", r"$\Delta t$")
+    return _sweep_figure(result, "dt", r"$\Delta t$", "upper left")
 
 
 @styled
 def figure_05(result):
     """Fig. 5: f against dy (results/classification/fig05.h5)."""
-    return _sweep_figure(result, "dy", r"$\Delta y$")
+    return _sweep_figure(result, "dy", r"$\Delta y$", "upper right")
 
 
 # --------------------------------------------------------------------------------------
@@ -168,8 +169,10 @@ def fourier_optimum(fig, d: dict, a: dict):
                   linewidth=0.8, label=rf"Fourier (SQP iterates), final $f$ = {_sci(a['fourier_f'])}")
     hist.axhline(a["three_phase_f"], color=LINE_COLORS[1], linestyle="--",
                  label=rf"best three-phase, $f$ = {_sci(a['three_phase_f'])}")
-    # Room above the iterates for the legend.
-    hist.set_ylim(top=float(np.max(d["history_f"])) * 6.0)
+    # Whole decades, with room above the iterates for the legend.
+    low, high = np.log10(np.min(d["history_f"])), np.log10(np.max(d["history_f"]))
+    hist.set_ylim(10.0 ** np.floor(low), 10.0 ** np.ceil(high + 0.5))
+    hist.yaxis.set_minor_formatter(NullFormatter())
     hist.set_xlabel("iteration")
     hist.set_ylabel("$f$")
     hist.legend(loc="upper right")
