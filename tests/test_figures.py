@@ -491,3 +491,21 @@ def test_floquet_map_pixels_match_committed_png(repo, floquet_grid, tmp_path, dp
     from selfalign.stages.figures import draw
 
     assert_pixels_match(repo, draw("floquet_fig17", [floquet_grid]), "floquet_fig17", tmp_path, dpi)
+
+
+def test_map_plots_refuse_bad_input_before_drawing():
+    """A colour limit that is not a number > 0, and arrays not shaped like the grid, are
+    ValueErrors naming the argument, raised before anything is drawn."""
+    from selfalign.plots.classification import objective_panel
+    from selfalign.plots.stability import floquet_map
+    from selfalign.plots.style import new_figure
+
+    ax = new_figure("single", 60).subplots()
+    grid = np.ones((2, 2))
+    with pytest.raises(ValueError, match="f_max must be a finite number > 0"):
+        objective_panel(ax, [1.0, 2.0], [1.0, 2.0], grid, grid, 0.0)
+    assert not ax.collections
+    fig = new_figure("double", 100)
+    with pytest.raises(ValueError, match=r"eq33 must be shaped \(len\(y2\), len\(y3\)\) = \(2, 2\)"):
+        floquet_map(fig, [1.0, 2.0], [1.0, 2.0], grid, {"analytic": grid}, np.ones((2, 3)))
+    assert not fig.axes

@@ -53,8 +53,27 @@ _OPS = {"<=": r"\leq", "<": "<", ">": ">", ">=": r"\geq"}
 
 
 def case_colour_bar(mesh):
-    """Name every case of Table 1 on the colour bar of the case map ``mesh``
-    (:func:`selfalign.plots.style.case_map`) in mathtext (:data:`CASE_TEXT`); returns the bar."""
+    """Name every case of Table 1 on the colour bar of a case map in mathtext (:data:`CASE_TEXT`).
+
+    Parameters
+    ----------
+    mesh : matplotlib.collections.QuadMesh
+        A case map drawn by :func:`selfalign.plots.style.case_map`, with its colour bar.
+
+    Returns
+    -------
+    matplotlib.colorbar.Colorbar
+        The colour bar, its ticks relabelled.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from selfalign.plots.style import case_map, new_figure
+    >>> ax = new_figure("single", 60).subplots()
+    >>> bar = case_colour_bar(case_map(ax, [1.0, 2.0], [1.0, 2.0], np.array([[1, 3], [4, 5]])))
+    >>> print(bar.ax.get_yticklabels()[1].get_text())
+    1 stick-slip, $x' \\geq 0$
+    """
     bar = mesh.colorbar
     bar.ax.set_yticklabels([f"{c} {CASE_TEXT[c]}" for c in sorted(CASE_COLORS)], fontsize=SMALL_FONT_SIZE)
     return bar
@@ -209,8 +228,8 @@ def question_text(label: str) -> str:
     """A question of the decision tree as Fig. 8 prints it: intervals and times in mathtext, the
     parenthesised condition left out (the box prints it below the question, in mathtext).
 
-    >>> question_text("Can the mass slip forward in [t1, t2] (y2'' > 1)?")
-    'Can the mass slip forward in $[t_1,\\,t_2]$?'
+    >>> print(question_text("Can the mass slip forward in [t1, t2] (y2'' > 1)?"))
+    Can the mass slip forward in $[t_1,\\,t_2]$?
     """
     text = re.sub(r"\s*\([^)]*\)", "", label)
     for plain, math in _QUESTION_MATH:
@@ -325,8 +344,34 @@ def mean_velocity_zero_line(ax, y2, y3, vbar) -> Line2D:
 
 
 def objective_norm(f, f_max: float) -> LogNorm:
-    """The logarithmic colour scale of f: from the smallest finite f > 0 of the map (a decade
-    below ``f_max`` if there is none, or if it is not below ``f_max``) to ``f_max``."""
+    """The logarithmic colour scale of f on a map.
+
+    Parameters
+    ----------
+    f : array_like
+        The objective (eq. 11) over the map; NaN (case 0) and inf (pure stick) are ignored.
+    f_max : float
+        The top of the scale, > 0: larger values are clipped to it.
+
+    Returns
+    -------
+    matplotlib.colors.LogNorm
+        From the smallest finite f > 0 of the map (a decade below ``f_max`` if there is none
+        below ``f_max``) to ``f_max``.
+
+    Raises
+    ------
+    ValueError
+        If ``f_max`` is not a finite number > 0.
+
+    Examples
+    --------
+    >>> norm = objective_norm([0.08, 0.5, float("inf"), float("nan"), 3.0], 0.8)
+    >>> norm.vmin, norm.vmax
+    (0.08, 0.8)
+    """
+    if not (isinstance(f_max, (int, float, np.floating)) and np.isfinite(f_max) and f_max > 0):
+        raise ValueError(f"f_max must be a finite number > 0, got {f_max!r}")
     f = np.asarray(f, dtype=float)
     shown = f[np.isfinite(f) & (f > 0)]
     low = float(shown.min()) if shown.size else f_max / 10.0
@@ -350,13 +395,52 @@ def _objective_cells(ax, y2, y3, f, vbar, norm):
 
 
 def objective_panel(ax, y2, y3, f, vbar, f_max: float):
-    """f (eq. 11) over (y2'', y3'') on a logarithmic colour scale (``QUANTITY_CMAPS["f"]``)
-    from the smallest f of the map to ``f_max``; values >= ``f_max`` are drawn in the colour
-    of ``f_max`` (the colour bar's "extend max" triangle), as the paper limits f "for clarity".
-    Special values (:data:`selfalign.plots.style.SPECIAL`): f = inf (pure stick) black, case 0
-    (no physical profile, f NaN) grey, and, since f = 1/(c vbar^2) is blind to the direction of
-    motion, vbar < 0 hatched, with the line vbar = 0 dashed.  Returns the legend handles of
-    the line and of every special value that occurs."""
+    """f (eq. 11) over (y2'', y3'') with its colour bar and its special values.
+
+    f is drawn on a logarithmic colour scale (``QUANTITY_CMAPS["f"]``, :func:`objective_norm`)
+    from the smallest f of the map to ``f_max``, so that the structure far below the clip
+    shows; values >= ``f_max`` are drawn in the colour of ``f_max`` (the colour bar's
+    "extend max" triangle), as the paper limits f "for clarity".  Special values
+    (:data:`selfalign.plots.style.SPECIAL`, :func:`selfalign.plots.style.mark_cells`):
+    f = inf (pure stick, case 5) black, case 0 (no physical profile, f NaN) grey, and, since
+    f = 1/(c vbar^2) is blind to the direction of motion, vbar < 0 hatched, with the line
+    vbar = 0 dashed.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The panel.
+    y2, y3 : array_like
+        The increasing grid axes (n,) and (m,).
+    f, vbar : array_like
+        The objective and the mean velocity, indexed [i_y2, i_y3] (n, m).
+    f_max : float
+        The top of the colour scale, > 0.
+
+    Returns
+    -------
+    list of matplotlib.artist.Artist
+        Legend handles: the line vbar = 0, then each special value that occurs on the map.
+
+    Raises
+    ------
+    ValueError
+        If ``f_max`` is not a finite number > 0.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from selfalign.plots.style import new_figure
+    >>> ax = new_figure("single", 60).subplots()
+    >>> f = np.array([[np.nan, np.inf], [0.1, 2.0]])
+    >>> vbar = np.array([[np.nan, 0.0], [-0.03, 0.007]])
+    >>> for handle in objective_panel(ax, [1.0, 2.0], [1.0, 2.0], f, vbar, 0.8):
+    ...     print(handle.get_label())
+    $\\bar v = 0$
+    case 0: no physical profile
+    $f = \\infty$: pure stick (case 5)
+    $\\bar v < 0$: walks backward
+    """
     mesh, handles = _objective_cells(ax, y2, y3, f, vbar, objective_norm(f, f_max))
     bar = ax.figure.colorbar(mesh, ax=ax, extend="max")
     bar.set_label(rf"$f$ (values $\geq$ {f_max:g} drawn as {f_max:g})")
@@ -364,9 +448,34 @@ def objective_panel(ax, y2, y3, f, vbar, f_max: float):
 
 
 def backward_window(y2, y3, vbar, share: float = 0.05):
-    """((y2 low, y2 high), (y3 low, y3 high)): the cells with vbar < 0 and a margin of three
-    cells, if they cover less than ``share`` of the map's area (too few to see at print size),
-    else None."""
+    """The window of a map that holds its few cells with vbar < 0, to magnify them.
+
+    Parameters
+    ----------
+    y2, y3 : array_like
+        The increasing grid axes (n,) and (m,).
+    vbar : array_like
+        The mean velocity, indexed [i_y2, i_y3] (n, m).
+    share : float
+        The largest share of the map's area the window may cover.
+
+    Returns
+    -------
+    tuple or None
+        ((y2 low, y2 high), (y3 low, y3 high)): the cells with vbar < 0 and a margin of three
+        cells, if that window covers less than ``share`` of the map's area (too few cells to
+        see at print size); None if it is larger or there is no such cell.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> vbar = np.ones((40, 40))
+    >>> vbar[2, 30] = -1.0
+    >>> backward_window(np.arange(40.0), np.arange(40.0), vbar)
+    ((-0.5, 5.5), (26.5, 33.5))
+    >>> backward_window(np.arange(40.0), np.arange(40.0), -vbar) is None
+    True
+    """
     with np.errstate(invalid="ignore"):
         i, j = np.nonzero(np.asarray(vbar, dtype=float) < 0.0)
     if i.size == 0:
@@ -374,7 +483,7 @@ def backward_window(y2, y3, vbar, share: float = 0.05):
     e2, e3 = cell_edges(y2), cell_edges(y3)
     lo2, hi2 = max(i.min() - 3, 0), min(i.max() + 4, y2.size)
     lo3, hi3 = max(j.min() - 3, 0), min(j.max() + 4, y3.size)
-    window = ((e2[lo2], e2[hi2]), (e3[lo3], e3[hi3]))
+    window = ((float(e2[lo2]), float(e2[hi2])), (float(e3[lo3]), float(e3[hi3])))
     covered = (window[0][1] - window[0][0]) * (window[1][1] - window[1][0])
     return window if covered < share * (e2[-1] - e2[0]) * (e3[-1] - e3[0]) else None
 

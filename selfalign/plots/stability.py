@@ -91,8 +91,33 @@ METHOD_TEXT = {"analytic": "analytic linearisation", "saltation": "saltation mat
 
 
 def case_outlines(ax, y2, y3, case) -> Line2D:
-    """The boundaries between the cases of Table 1 on a map (cell edges between cells of
-    different case), black on white; returns their legend handle."""
+    """The boundaries between the cases of Table 1 on a map, black on white.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The map's panel.
+    y2, y3 : array_like
+        The increasing grid axes (n,) and (m,).
+    case : array_like
+        The case of Table 1, indexed [i_y2, i_y3] (n, m).
+
+    Returns
+    -------
+    matplotlib.lines.Line2D
+        The legend handle of the boundaries; the cell edges between cells of different case are
+        drawn on ``ax``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from selfalign.plots.style import new_figure
+    >>> ax = new_figure("single", 60).subplots()
+    >>> case_outlines(ax, [1.0, 2.0, 3.0], [1.0, 2.0], np.array([[1, 3], [3, 3], [3, 4]])).get_label()
+    'boundary of the cases of Table 1'
+    >>> len(ax.collections[-1].get_segments())
+    4
+    """
     case = np.asarray(case)
     x, y = cell_edges(y2), cell_edges(y3)
     segments = [[(x[i + 1], y[j]), (x[i + 1], y[j + 1])] for i, j in zip(*np.nonzero(case[1:] != case[:-1]))]
@@ -105,12 +130,53 @@ def case_outlines(ax, y2, y3, case) -> Line2D:
 
 
 def floquet_map(fig, y2, y3, case, lambda2: dict, eq33):
-    """The second Floquet multiplier over (y2'', y3''): (a) lambda2 of the first method of
-    ``lambda2`` (method name -> lambda2[i_y2, i_y3]), (b, c, ...) |lambda2 - eq. (33)| of
-    the others on one logarithmic scale, differences below :data:`DIFFERENCE_FLOOR` drawn at
-    it; the largest difference of every method is in the legend title.  The case regions
-    are outlined on every panel (case numbers on (a)), case 0 is grey.  ``eq33``: lambda2 of
-    eq. (33), c4 in case 4 and 0 in the other cases."""
+    """The second Floquet multiplier over (y2'', y3'') against eq. (33) (Sect. 6.1).
+
+    (a) lambda2 of the first method of ``lambda2``; (b, c, ...) |lambda2 - eq. (33)| of the
+    others on one logarithmic scale, differences below :data:`DIFFERENCE_FLOOR` drawn at it;
+    the largest difference of every method is in the legend title.  The case regions are
+    outlined on every panel (:func:`case_outlines`; case numbers on (a)), case 0 is grey.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure to draw on (empty).
+    y2, y3 : array_like
+        The increasing grid axes (n,) and (m,).
+    case : array_like
+        The case of Table 1, indexed [i_y2, i_y3] (n, m).
+    lambda2 : dict
+        Method name -> lambda2 of that method, (n, m), in the order of the panels.
+    eq33 : array_like
+        lambda2 of eq. (33), (n, m): c4 in case 4 and 0 in the other cases.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        ``fig``.
+
+    Raises
+    ------
+    ValueError
+        If ``lambda2`` is empty or an array is not shaped (n, m).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from selfalign.plots.style import new_figure, print_check
+    >>> case = np.array([[1, 3], [3, 4]])
+    >>> c4 = np.where(case == 4, 0.25, 0.0)
+    >>> fig = floquet_map(new_figure("double", 120), [1.0, 2.0], [1.0, 2.0], case,
+    ...                   {"analytic": c4, "saltation": c4 + 1e-12}, c4)
+    >>> print_check(fig), [ax.get_title(loc="left") for ax in fig.axes[:2]]
+    ([], ['a', 'b'])
+    """
+    shape = (np.size(y2), np.size(y3))
+    if not lambda2:
+        raise ValueError("lambda2 must name at least one method")
+    for name, values in {"case": case, "eq33": eq33, **{f"lambda2[{k!r}]": v for k, v in lambda2.items()}}.items():
+        if np.shape(values) != shape:
+            raise ValueError(f"{name} must be shaped (len(y2), len(y3)) = {shape}, got {np.shape(values)}")
     y2, y3, case, eq33 = (np.asarray(a, dtype=float) for a in (y2, y3, case, eq33))
     names = list(lambda2)
     axes = fig.subplots(2, (len(names) + 1) // 2, sharex=True, sharey=True).ravel()
@@ -150,9 +216,40 @@ def floquet_map(fig, y2, y3, case, lambda2: dict, eq33):
 
 @styled
 def figure_floquet_map(result: dict, eq33):
-    """The second Floquet multiplier over a stability grid (results/stability/grid_<name>.h5,
-    :func:`selfalign.stages.stability.stability_grid`) against ``eq33``, lambda2 of eq. (33)
-    on the same grid (:func:`floquet_map`)."""
+    """The second Floquet multiplier over a stability grid against eq. (33) (:func:`floquet_map`).
+
+    Parameters
+    ----------
+    result : dict
+        A stability grid (results/stability/grid_<name>.h5,
+        :func:`selfalign.stages.stability.stability_grid`) in
+        :func:`selfalign.io.hdf5.read_h5` layout; every method in it gets a panel, the first
+        (analytic) showing lambda2 itself.
+    eq33 : array_like
+        lambda2 of eq. (33) on the same grid, [i_y2, i_y3].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two columns (174 mm) wide.
+
+    Raises
+    ------
+    ValueError
+        If ``eq33`` is not shaped like the grid.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from selfalign.stages.stability import stability_grid
+    >>> datasets, attrs = stability_grid(1.0, 0.084, [1.3, 3.0], [1.5, 3.0], moreau_steps=100)
+    >>> datasets["case"].tolist()
+    [[4, 3], [3, 3]]
+    >>> eq33 = np.where(datasets["case"] == 4, (0.3 * 0.5) / (2.3 * 2.5), 0.0)
+    >>> fig = figure_floquet_map({"datasets": datasets, "attrs": attrs}, eq33)
+    >>> round(fig.get_figwidth() * 25.4), len(fig.axes)
+    (174, 6)
+    """
     d = result["datasets"]
     lambda2 = {str(name): d["multipliers"][k, ..., 1] for k, name in enumerate(d["methods"])}
     return floquet_map(new_figure("double", 150), d["y2"], d["y3"], d["case"], lambda2, eq33)
