@@ -16,8 +16,8 @@ from matplotlib.colors import to_rgb
 
 from selfalign.analysis.classification import CASE_LABELS, DECISION_TREE, Decision, DecisionTree
 from selfalign.io.hdf5 import read_h5, write_h5
-from selfalign.plots.classification import figure_08, tree_layout
-from selfalign.plots.style import CASE_COLORS
+from selfalign.plots.classification import figure_08, question_text, tree_layout
+from selfalign.plots.style import CASE_COLORS, print_check
 from selfalign.stages.classification import MAP_FIELDS, gather_map, map_shard
 from selfalign.stages.common import shard_rows
 
@@ -131,14 +131,16 @@ def test_design_rules_on_the_small_acceleration_map(maps):
 def test_fig08_is_drawn_from_the_decision_tree():
     """Fig. 8 walks the tree that classifies the maps: every decision's question, every case
     of Table 1, one yes/no label per edge and one arrow per edge appear, leaves in their map
-    colour; the layout puts every child one level below its parent."""
+    colour; the layout puts every child one level below its parent; the chart is two columns
+    wide (174 mm) with no text below 7 pt (the figure standard)."""
     fig = figure_08()
+    assert print_check(fig) == [] and round(fig.get_figwidth() * 25.4) == 174
     ax_texts = [t for t in fig.axes[0].texts]
     texts = [t.get_text() for t in ax_texts]
     arrows = [t for t in ax_texts if t.get_text() == "" and t.arrow_patch is not None]
     for node_id, attrs in DECISION_TREE.nodes():
         if attrs["kind"] == "decision":
-            assert any(t.replace("\n", " ").startswith(attrs["label"].split("(")[0].strip()) for t in texts)
+            assert any(t.replace("\n", " ").startswith(question_text(attrs["label"]).rstrip("?")) for t in texts)
         else:
             box = next(t for t in ax_texts if t.get_text().startswith(f"case {attrs['case']}\n"))
             assert box.get_bbox_patch().get_facecolor()[:3] == pytest.approx(to_rgb(CASE_COLORS[attrs["case"]]))

@@ -14,6 +14,8 @@ import shutil
 import tomllib
 
 import matplotlib
+import matplotlib.text
+import numpy as np
 import pytest
 import yaml
 from figcheck import compare_figure_data, compare_pdf, compare_pixels, figure_data, load_reference, save_reference
@@ -282,3 +284,262 @@ def test_fig06_comparison_catches_stroke_change(repo, fig06):
     line["y"] = [value * 1.01 for value in line["y"]]
     diffs = compare_figure_data(data, load_reference(repo / "tests/figure_refs/fig06.json"), rtol=RTOL, atol=ATOL)
     assert any(d.startswith("figure.axes[0].lines[0].y: 1001 of 1001 values differ") for d in diffs), diffs
+
+
+# The figure standard on the steady-state and stability figures (selfalign.plots.style): print
+# size, special values each in their one encoding, nothing that misleads.
+
+def marked_cells(ax, kind, y2, y3) -> float:
+    """How many map cells ``ax`` draws in the special-value encoding ``kind`` (the area of its
+    patch over the area of one cell; the grids are uniform)."""
+    from matplotlib.colors import to_rgba
+    from matplotlib.patches import PathPatch
+
+    from selfalign.plots.style import SPECIAL, cell_edges
+
+    encoding = SPECIAL[kind]
+    face = to_rgba("none" if encoding["facecolor"] == "none" else encoding["facecolor"])
+    patches = [p for p in ax.patches if isinstance(p, PathPatch) and (p.get_hatch() or "") == encoding["hatch"]
+               and p.get_facecolor() == face]
+    if not patches:
+        return 0.0
+    (patch,) = patches
+    corners = patch.get_path().vertices.reshape(-1, 5, 2)
+    area = np.sum((corners[:, 1, 0] - corners[:, 0, 0]) * (corners[:, 2, 1] - corners[:, 1, 1]))
+    e2, e3 = cell_edges(y2), cell_edges(y3)
+    return float(area / ((e2[1] - e2[0]) * (e3[1] - e3[0])))
+
+
+def closed_form_map(repo, name):
+    """The closed-form map ``name`` (fig10, fig11) of the workflow config, as figure_map reads it."""
+    from selfalign.stages.classification import gather_map, map_shard
+    from selfalign.stages.common import range_values
+
+    stage, figures = classification_config(repo)
+    m = stage["maps"][name]
+    y2, y3 = range_values(m["y2"]), range_values(m["y3"])
+    datasets, attrs = gather_map(m["dt"], m["dy"], y2, y3,
+                                 [map_shard(m["dt"], m["dy"], y2, y3, slice(0, y2.size), simulate=False)])
+    return {"datasets": datasets, "attrs": attrs}, figures[name]["f_max"]
+
+
+@pytest.mark.parametrize("name", CLASSIFICATION_FIGURES)
+def test_classification_figures_meet_the_print_standard(name, repo, tmp_path):
+    """Figs. 4, 5, 8, 10 and 11 are one or two columns wide, no text below 7 pt, no title but
+    panel letters, no ASCII mathematics (selfalign.plots.style.print_check)."""
+    from selfalign.plots.style import print_check
+
+    assert print_check(build_classification_figure(name, repo, tmp_path)) == []
+
+
+def test_fig11_draws_pure_stick_as_infinite_not_as_a_large_f(repo):
+    """Sect. 5.2, Table 1: in case 5 (pure stick) v̄ = 0 and f = 1/(c v̄²) = inf.  Fig. 11 (a)
+    draws exactly those cells in the encoding "f_infinite" (black), leaves them out of the
+    colour map (NaN in the mesh, not the colour of f_max), names them in the legend, and its
+    colour bar says that finite values >= f_max are clipped ("extend max")."""
+    from selfalign.plots.classification import INFINITE_LABEL, figure_map
+    from selfalign.plots.style import SPECIAL
+
+    result, f_max = closed_form_map(repo, "fig11")
+    d = result["datasets"]
+    fig = figure_map(result, f_max)
+    ax = fig.axes[0]
+    infinite = np.isposinf(d["f"])
+    assert infinite.sum() == np.count_nonzero(d["case"] == 5) > 100
+    assert marked_cells(ax, "f_infinite", d["y2"], d["y3"]) == pytest.approx(infinite.sum(), abs=1e-6)
+    mesh = ax.collections[0]
+    assert np.all(np.ma.getmaskarray(mesh.get_array()).reshape(d["y3"].size, d["y2"].size).T[infinite])
+    assert mesh.colorbar.extend == "max"
+    legend = [t.get_text() for t in fig.legends[0].get_texts()]
+    assert INFINITE_LABEL in legend and SPECIAL["v_negative"]["label"] in legend
+
+
+def test_objective_panel_is_logarithmic_and_marks_every_special_value(repo):
+    """objective_panel (Figs. 10, 11 and 17 (a)): f on a logarithmic colour scale from the
+    smallest f of the map to f_max (so values far below the clip are told apart), values >=
+    f_max clipped to the top colour with an "extend max" bar, and case 0, f = inf and v̄ < 0
+    each drawn on exactly their cells, with a legend handle each besides the line v̄ = 0.  The
+    check can fail: on a map without case 0 the case-0 handle is left out."""
+    from matplotlib.colors import LogNorm
+
+    from selfalign.plots.classification import INFINITE_LABEL, objective_panel
+    from selfalign.plots.style import SPECIAL, new_figure
+
+    result, f_max = closed_form_map(repo, "fig11")
+    d = result["datasets"]
+    ax = new_figure("single", 80).subplots()
+    handles = objective_panel(ax, d["y2"], d["y3"], d["f"], d["vbar"], f_max)
+    norm = ax.collections[0].norm
+    assert isinstance(norm, LogNorm) and norm.vmax == f_max
+    assert norm.vmin == pytest.approx(np.min(d["f"][np.isfinite(d["f"])]), rel=1e-12)
+    assert ax.collections[0].colorbar.extend == "max"
+    for kind, mask in (("non_physical", d["case"] == 0), ("f_infinite", np.isposinf(d["f"])),
+                       ("v_negative", d["vbar"] < 0)):
+        assert marked_cells(ax, kind, d["y2"], d["y3"]) == pytest.approx(np.count_nonzero(mask), abs=1e-6), kind
+    assert [h.get_label() for h in handles] == [r"$\bar v = 0$", SPECIAL["non_physical"]["label"], INFINITE_LABEL,
+                                                SPECIAL["v_negative"]["label"]]
+    inner = (slice(60, None), slice(60, None))  # y2'', y3'' > 1: cases 3 and 4 only
+    assert set(np.unique(d["case"][inner])) <= {3, 4}
+    ax = new_figure("single", 80).subplots()
+    labels = [h.get_label() for h in objective_panel(ax, d["y2"][inner[0]], d["y3"][inner[1]], d["f"][inner],
+                                                     d["vbar"][inner], f_max)]
+    assert SPECIAL["non_physical"]["label"] not in labels and INFINITE_LABEL not in labels
+
+
+def test_fig10_magnifies_the_few_backward_cells(repo):
+    """Sect. 5.2 (Fig. 10): v̄ < 0 occurs only in 21 slip-slip cells next to case 0, about
+    1.4 mm wide at print size, too narrow for the hatch.  Panel (c) magnifies a window holding
+    every one of them and draws them hatched there (and in (a)); Fig. 11, where v̄ < 0 covers
+    a large region, has no such panel."""
+    from selfalign.plots.classification import figure_map
+
+    result, f_max = closed_form_map(repo, "fig10")
+    d = result["datasets"]
+    backward = d["vbar"] < 0
+    assert np.count_nonzero(backward) == 21
+    fig = figure_map(result, f_max)
+    zoom = fig.axes[2]
+    i, j = np.nonzero(backward)
+    (x0, x1), (z0, z1) = zoom.get_xlim(), zoom.get_ylim()
+    assert x0 < d["y2"][i].min() and d["y2"][i].max() < x1 and z0 < d["y3"][j].min() and d["y3"][j].max() < z1
+    assert (x1 - x0) < 0.1 * (d["y2"][-1] - d["y2"][0])
+    for ax in (fig.axes[0], zoom):
+        assert marked_cells(ax, "v_negative", d["y2"], d["y3"]) == pytest.approx(21, abs=1e-6)
+    result11, f_max11 = closed_form_map(repo, "fig11")
+    assert [ax.get_title(loc="left") for ax in figure_map(result11, f_max11).axes if ax.get_title(loc="left")] \
+        == ["a", "b"]
+
+
+@pytest.mark.parametrize("name", ["fig04", "fig05"])
+def test_sweep_differences_at_rounding_level_are_drawn_on_the_floor(name, repo, tmp_path):
+    """Figs. 4, 5 (b): where time-stepping lands on the exact steady motion the relative
+    difference of f is rounding (1e-13 .. 1e-11, captions); such points are drawn as triangles on
+    the floor 1e-6 of the axis, the others at their values above it, so no point lies outside
+    the axis and none is hidden."""
+    from selfalign.plots.classification import ROUNDING_FLOOR
+
+    fig = build_classification_figure(name, repo, tmp_path)
+    ax = fig.axes[1]
+    above, floor = ax.lines[0].get_ydata(), ax.lines[1].get_ydata()
+    assert np.all(above >= ROUNDING_FLOOR) and np.all(floor == ROUNDING_FLOOR)
+    assert above.size + floor.size == fig.axes[0].lines[1].get_xdata().size
+    assert ax.get_ylim()[0] < ROUNDING_FLOOR
+
+
+def test_fig13_meets_the_print_standard(fig13_setup, tmp_path):
+    """Fig. 13 is one column wide, with panel letters and no text below 7 pt."""
+    from selfalign.plots.style import print_check
+
+    fig = build_fig13(*fig13_setup, tmp_path)
+    assert print_check(fig) == [] and round(fig.get_figwidth() * 25.4) == 84
+
+
+@pytest.mark.blas
+def test_fig06_meets_the_print_standard_and_leaves_the_paper_value_to_the_caption(fig06):
+    """Fig. 6 is two columns wide with no text below 7 pt; it prints f of eq. (11) only (the
+    paper's f = 56 is discussed in the caption, docs/explanation/stability.md)."""
+    from selfalign.plots.style import print_check
+
+    assert print_check(fig06) == [] and round(fig06.get_figwidth() * 25.4) == 174
+    texts = [t.get_text() for t in fig06.findobj(matplotlib.text.Text)]
+    assert not any("56" in t for t in texts)
+
+
+# The second Floquet multiplier over the plane of Fig. 17 (Sect. 6.1, eq. 33).
+
+def eq33(y2, y3, case):
+    """lambda2 of eq. (33): c4 = (y2'' - 1)(y3'' - 1)/((y2'' + 1)(y3'' + 1)) in case 4, 0 in the
+    other physical cases, on the grid [i_y2, i_y3]."""
+    g2, g3 = np.meshgrid(y2, y3, indexing="ij")
+    return np.where(case == 4, (g2 - 1) * (g3 - 1) / ((g2 + 1) * (g3 + 1)), 0.0)
+
+
+@pytest.fixture(scope="module")
+def floquet_grid(repo, tmp_path_factory):
+    """The stability grid of Fig. 17's plane with the workflow config's settings, through HDF5."""
+    from selfalign.stages.common import range_values
+    from selfalign.stages.stability import stability_grid
+
+    g = yaml.safe_load((repo / "workflow/config/config.yaml").read_text())["stages"]["stability"]["grids"]["fig17"]
+    datasets, attrs = stability_grid(g["dt"], g["dy"], range_values(g["y2"]), range_values(g["y3"]),
+                                     g["moreau_steps"])
+    return read_h5(write_h5(tmp_path_factory.mktemp("grid") / "grid_fig17.h5", datasets, attrs))
+
+
+def drawn_lambda2(fig, y2, y3):
+    """lambda2 as panel (a) draws it, [i_y2, i_y3] (NaN where no value is drawn)."""
+    mesh = fig.axes[0].collections[0]
+    return np.ma.filled(np.ma.asarray(mesh.get_array(), dtype=float), np.nan).reshape(y3.size, y2.size).T
+
+
+#: Tolerance of the drawn lambda2 against eq. (33): the analytic linearisation evaluates the
+#: same closed form, so only rounding may differ.
+EQ33_ATOL = 1e-15
+
+
+def test_floquet_map_draws_eq33(floquet_grid):
+    """Sect. 6.1, eq. (33): panel (a) of floquet_fig17 draws lambda2 = c4 in case 4 (slip-slip)
+    and 0 in the other cases (atol 1e-15), nothing in case 0 (drawn grey); the plane holds cases
+    0-4.  Panels (b)-(d) draw |lambda2 - eq. (33)| of the other methods, floored at 1e-17."""
+    from selfalign.plots.stability import DIFFERENCE_FLOOR
+    from selfalign.plots.style import print_check
+    from selfalign.stages.figures import draw
+
+    d = floquet_grid["datasets"]
+    fig = draw("floquet_fig17", [floquet_grid])
+    assert print_check(fig) == []
+    case = d["case"]
+    assert set(np.unique(case)) == {0, 1, 2, 3, 4}
+    expected = np.where(case > 0, eq33(d["y2"], d["y3"], case), np.nan)
+    np.testing.assert_allclose(drawn_lambda2(fig, d["y2"], d["y3"]), expected, rtol=0, atol=EQ33_ATOL)
+    assert marked_cells(fig.axes[0], "non_physical", d["y2"], d["y3"]) == pytest.approx(np.sum(case == 0), abs=1e-6)
+    for k, ax in zip(range(1, 4), fig.axes[1:4]):
+        drawn = np.ma.filled(np.ma.asarray(ax.collections[0].get_array(), dtype=float), np.nan)
+        shown = np.maximum(np.abs(d["multipliers"][k, ..., 1] - expected), DIFFERENCE_FLOOR)
+        np.testing.assert_allclose(drawn.reshape(d["y3"].size, d["y2"].size).T, shown, rtol=1e-12)
+
+
+def test_floquet_map_check_catches_a_wrong_multiplier(floquet_grid):
+    """The check can fail: a result whose analytic lambda2 is off by 1e-12 in one case-4 cell
+    is drawn off eq. (33) by more than the tolerance."""
+    from selfalign.stages.figures import draw
+
+    d = dict(floquet_grid["datasets"])
+    i, j = np.argwhere(d["case"] == 4)[0]
+    d["multipliers"] = d["multipliers"].copy()
+    d["multipliers"][0, i, j, 1] += 1e-12
+    fig = draw("floquet_fig17", [{"datasets": d, "attrs": floquet_grid["attrs"]}])
+    error = np.abs(drawn_lambda2(fig, d["y2"], d["y3"]) - eq33(d["y2"], d["y3"], d["case"]))
+    assert np.nanmax(error) > EQ33_ATOL
+
+
+def test_floquet_map_data_matches_reference(repo, floquet_grid, update_figure_refs, dpi):
+    """floquet_fig17 shows the same numbers as the committed reference, rtol 1e-9."""
+    from selfalign.stages.figures import draw
+
+    assert_data_matches(repo, draw("floquet_fig17", [floquet_grid]), "floquet_fig17", update_figure_refs, dpi)
+
+
+def test_floquet_map_pixels_match_committed_png(repo, floquet_grid, tmp_path, dpi):
+    """The committed figures/floquet_fig17.png is what the current code draws (RMS <= 1 of 255)."""
+    from selfalign.stages.figures import draw
+
+    assert_pixels_match(repo, draw("floquet_fig17", [floquet_grid]), "floquet_fig17", tmp_path, dpi)
+
+
+def test_map_plots_refuse_bad_input_before_drawing():
+    """A colour limit that is not a number > 0, and arrays not shaped like the grid, are
+    ValueErrors naming the argument, raised before anything is drawn."""
+    from selfalign.plots.classification import objective_panel
+    from selfalign.plots.stability import floquet_map
+    from selfalign.plots.style import new_figure
+
+    ax = new_figure("single", 60).subplots()
+    grid = np.ones((2, 2))
+    with pytest.raises(ValueError, match="f_max must be a finite number > 0"):
+        objective_panel(ax, [1.0, 2.0], [1.0, 2.0], grid, grid, 0.0)
+    assert not ax.collections
+    fig = new_figure("double", 100)
+    with pytest.raises(ValueError, match=r"eq33 must be shaped \(len\(y2\), len\(y3\)\) = \(2, 2\)"):
+        floquet_map(fig, [1.0, 2.0], [1.0, 2.0], grid, {"analytic": grid}, np.ones((2, 3)))
+    assert not fig.axes

@@ -189,7 +189,8 @@ def panel_letters(axes, start: int = 0):
 #: case 1 and vermillion for the undesirable case 2 (Sect. 5.2).
 CASE_COLORS = {0: "0.6", 1: "#0072B2", 2: "#D55E00", 3: "#F0E442", 4: "#66CCEE", 5: "#882255"}
 #: One sequential colour map per quantity, in every figure that shows it.
-QUANTITY_CMAPS = {"f": "viridis", "dx_d": "cividis", "speed": "viridis", "count": "Blues"}
+QUANTITY_CMAPS = {"f": "viridis", "dx_d": "cividis", "speed": "viridis", "count": "Blues", "lambda2": "YlOrBr",
+                  "lambda2_difference": "magma"}
 #: Fractions of entries (how many accumulate, how many stop): three classes, light to dark,
 #: in a hue no case uses.
 FRACTION_CLASSES = ("none", "some", "all")
@@ -220,17 +221,16 @@ def setting_title(**values) -> str:
     return ", ".join(f"{SETTING_SYMBOLS[name]} = {value:g}" for name, value in values.items())
 
 
-#: The ASCII relations of the case labels (selfalign.analysis.classification.CASE_LABELS) in mathtext.
-_RELATIONS = {">=": r"\geq", "<=": r"\leq"}
+#: The cases of Table 1 in mathtext: the labels of selfalign.analysis.classification.CASE_LABELS
+#: with their relations typeset ("x' >= 0" -> "$x' \\geq 0$").
+CASE_TEXT = {case: label.replace("x' >= 0", r"$x' \geq 0$").replace("x' <= 0", r"$x' \leq 0$")
+             for case, label in CASE_LABELS.items()}
 
 
 def case_label(case: int) -> str:
-    """The tick of ``case`` on a case colour bar, its label of Table 1 in mathtext, e.g.
+    """The tick of ``case`` on a case colour bar: its number and :data:`CASE_TEXT`, e.g.
     "1 stick-slip, $x' \\geq 0$"."""
-    label = CASE_LABELS[case]
-    for ascii_relation, tex in _RELATIONS.items():
-        label = label.replace(f"x' {ascii_relation} 0", f"$x' {tex} 0$")
-    return f"{case} {label}"
+    return f"{case} {CASE_TEXT[case]}"
 
 
 def cell_edges(centres) -> np.ndarray:

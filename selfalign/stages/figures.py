@@ -18,6 +18,7 @@ import numpy as np
 
 from ..analysis.classification import classify
 from ..analysis.finite_jerk import RAMPS_TOO_LONG, jerk_profile
+from ..analysis.steady_state import monodromy_grid
 from ..io.simulation_result import scene_from_result
 from ..model.friction import StopZone
 from ..plots.accumulation import figure_02, figure_14, figure_15, figure_16, figure_17, figure_18
@@ -28,7 +29,7 @@ from ..plots.effects import figure_static_friction, figure_stribeck_friction
 from ..plots.finite_jerk import finite_jerk_figure, finite_jerk_stopping_figure
 from ..plots.profile import figure_07
 from ..plots.simulation import figure_03, figure_09, figure_12, figure_accuracy_cost
-from ..plots.stability import figure_13
+from ..plots.stability import figure_13, figure_floquet_map
 from .accumulation import setting_group
 from .classification import fig06_mass_displacement
 from .finite_jerk import grids_from_result
@@ -104,6 +105,17 @@ def _static_friction(results):
     return figure_static_friction(result, _no_profile(a["dt"], a["dy"], d["y2"], d["y3"], [0.0])[0])
 
 
+def _floquet_map(results):
+    """The second Floquet multiplier over a stability grid against eq. (33): lambda2 = c4 =
+    (y2'' - 1)(y3'' - 1) / ((y2'' + 1)(y3'' + 1)) in case 4 (slip-slip), 0 in cases 1, 2, 3 and 5
+    (Sect. 6.1), NaN in case 0: the entry m22 of the closed-form monodromy matrix
+    (:func:`selfalign.analysis.steady_state.monodromy_grid`)."""
+    (result,) = results
+    d, a = result["datasets"], result["attrs"]
+    y2, y3 = np.meshgrid(d["y2"], d["y3"], indexing="ij")
+    return figure_floquet_map(result, monodromy_grid(a["dt"], a["dy"], y2, y3)[..., 1, 1])
+
+
 #: name -> draw(results, **options): the results are the figure's inputs in the workflow's order.
 FIGURES = {
     # Drawn from the stop zone of the workflow's accumulation stage (no result file): x_mu = 0.
@@ -119,6 +131,7 @@ FIGURES = {
     "fig11": lambda results, f_max: figure_map(*results, f_max),
     "fig12": lambda results: figure_12(*results),
     "fig13": lambda results: figure_13(*results),
+    "floquet_fig17": _floquet_map,
     "fig14": lambda results, setting: figure_14(*results, setting_group(*setting)),
     "fig15": _fig15,
     "fig16": lambda results, settings: figure_16(*results, [setting_group(*s) for s in settings]),

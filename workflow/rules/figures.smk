@@ -42,6 +42,7 @@ FIGURES = {
     "fig11": (STEADY_STATE_FIGURES, [results("classification", "fig11")], {"f_max": FIGURE_CONFIG["fig11"]["f_max"]}),
     "fig12": (SIMULATION_FIGURES, [results("simulation", FIGURE_CONFIG["fig12"]["scene"])], {}),
     "fig13": (STABILITY_FIGURES, [results("convergence", FIGURE_CONFIG["fig13"]["scene"])], {}),
+    "floquet_fig17": (STABILITY_FIGURES, [results("stability", "grid_fig17")], {}),
     "fig14": (ACCUMULATION_FIGURES, [results("accumulation", "fig16")], {"setting": PORTRAITS[-1]}),
     "fig15": (ACCUMULATION_FIGURES, [results("accumulation", "fig16")], {"setting": PORTRAITS[-1]}),
     "fig16": (ACCUMULATION_FIGURES, [results("accumulation", "fig16")], {"settings": PORTRAITS}),
