@@ -337,7 +337,7 @@ def test_fig11_draws_pure_stick_as_infinite_not_as_a_large_f(repo):
     draws exactly those cells in the encoding "f_infinite" (black), leaves them out of the
     colour map (NaN in the mesh, not the colour of f_max), names them in the legend, and its
     colour bar says that finite values >= f_max are clipped ("extend max")."""
-    from selfalign.plots.classification import INFINITE_LABEL, figure_map
+    from selfalign.plots.classification import figure_map
     from selfalign.plots.style import SPECIAL
 
     result, f_max = closed_form_map(repo, "fig11")
@@ -351,7 +351,7 @@ def test_fig11_draws_pure_stick_as_infinite_not_as_a_large_f(repo):
     assert np.all(np.ma.getmaskarray(mesh.get_array()).reshape(d["y3"].size, d["y2"].size).T[infinite])
     assert mesh.colorbar.extend == "max"
     legend = [t.get_text() for t in fig.legends[0].get_texts()]
-    assert INFINITE_LABEL in legend and SPECIAL["v_negative"]["label"] in legend
+    assert SPECIAL["f_infinite"]["label"] in legend and SPECIAL["v_negative"]["label"] in legend
 
 
 def test_objective_panel_is_logarithmic_and_marks_every_special_value(repo):
@@ -362,7 +362,7 @@ def test_objective_panel_is_logarithmic_and_marks_every_special_value(repo):
     check can fail: on a map without case 0 the case-0 handle is left out."""
     from matplotlib.colors import LogNorm
 
-    from selfalign.plots.classification import INFINITE_LABEL, objective_panel
+    from selfalign.plots.classification import objective_panel
     from selfalign.plots.style import SPECIAL, new_figure
 
     result, f_max = closed_form_map(repo, "fig11")
@@ -376,14 +376,14 @@ def test_objective_panel_is_logarithmic_and_marks_every_special_value(repo):
     for kind, mask in (("non_physical", d["case"] == 0), ("f_infinite", np.isposinf(d["f"])),
                        ("v_negative", d["vbar"] < 0)):
         assert marked_cells(ax, kind, d["y2"], d["y3"]) == pytest.approx(np.count_nonzero(mask), abs=1e-6), kind
-    assert [h.get_label() for h in handles] == [r"$\bar v = 0$", SPECIAL["non_physical"]["label"], INFINITE_LABEL,
-                                                SPECIAL["v_negative"]["label"]]
+    assert [h.get_label() for h in handles] == [r"$\bar v = 0$"] + [SPECIAL[kind]["label"] for kind in
+                                                                     ("non_physical", "f_infinite", "v_negative")]
     inner = (slice(60, None), slice(60, None))  # y2'', y3'' > 1: cases 3 and 4 only
     assert set(np.unique(d["case"][inner])) <= {3, 4}
     ax = new_figure("single", 80).subplots()
     labels = [h.get_label() for h in objective_panel(ax, d["y2"][inner[0]], d["y3"][inner[1]], d["f"][inner],
                                                      d["vbar"][inner], f_max)]
-    assert SPECIAL["non_physical"]["label"] not in labels and INFINITE_LABEL not in labels
+    assert SPECIAL["non_physical"]["label"] not in labels and SPECIAL["f_infinite"]["label"] not in labels
 
 
 def test_fig10_magnifies_the_few_backward_cells(repo):

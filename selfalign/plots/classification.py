@@ -349,11 +349,6 @@ def objective_norm(f, f_max: float) -> LogNorm:
     return LogNorm(vmin=low if low < f_max else f_max / 10.0, vmax=f_max)
 
 
-#: Legend text of the cells with f = inf: vbar = 0, which is pure stick (case 5) or, on a
-#: single grid point, a motion whose forward and backward slips cancel exactly.
-INFINITE_LABEL = r"$f = \infty$: $\bar v = 0$"
-
-
 def _objective_cells(ax, y2, y3, f, vbar, norm):
     """The cells of f (eq. 11) on the colour scale ``norm`` (values above its top in the
     colour of the top) and the special values over them; returns (mesh, legend handles of
@@ -364,7 +359,7 @@ def _objective_cells(ax, y2, y3, f, vbar, norm):
         backward = np.asarray(vbar, dtype=float) < 0.0
     handles = [mean_velocity_zero_line(ax, y2, y3, vbar)]
     for kind, mask in (("non_physical", np.isnan(f)), ("f_infinite", np.isposinf(f)), ("v_negative", backward)):
-        handle = mark_cells(ax, y2, y3, mask, kind, INFINITE_LABEL if kind == "f_infinite" else None)
+        handle = mark_cells(ax, y2, y3, mask, kind)
         if mask.any():
             handles.append(handle)
     return mesh, handles
@@ -379,7 +374,7 @@ def objective_panel(ax, y2, y3, f, vbar, f_max: float):
     "extend max" triangle), as the paper limits f "for clarity".  Special values
     (:data:`selfalign.plots.style.SPECIAL`, :func:`selfalign.plots.style.mark_cells`):
     f = inf (vbar = 0: pure stick, case 5, or a motion whose forward and backward slips
-    cancel exactly; :data:`INFINITE_LABEL`) black, case 0 (no physical profile, f NaN) grey, and, since
+    cancel exactly) black, case 0 (no physical profile, f NaN) grey, and, since
     f = 1/(c vbar^2) is blind to the direction of motion, vbar < 0 hatched, with the line
     vbar = 0 dashed.
 

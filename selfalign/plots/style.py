@@ -201,14 +201,12 @@ FRACTION_COLORS = ("#c7eae5", "#5ab4ac", "#01665e")
 #: through), ``hatch`` ("": none) and the legend ``label``.
 SPECIAL = {
     "non_physical": dict(facecolor=CASE_COLORS[0], hatch="", label="case 0: no physical profile"),
-    "f_infinite": dict(facecolor="#000000", hatch="", label=r"$f = \infty$: pure stick (case 5)"),
+    "f_infinite": dict(facecolor="#000000", hatch="", label=r"$f = \infty$: $\bar v = 0$"),
     "v_negative": dict(facecolor="none", hatch="////", label=r"$\bar v < 0$: walks backward"),
     "dx_zero": dict(facecolor=OKABE_ITO["sky blue"], hatch="",
                         label=r"$\Delta x_d = 0$ exactly: every entry accumulates"),
     "unsettled": dict(facecolor="none", hatch="\\\\\\\\", label="not every entry stops"),
 }
-#: Hatch of map cells that show no value of their panel; each legend says why.
-HATCH = SPECIAL["v_negative"]["hatch"]
 Y2_LABEL, Y3_LABEL = "$y_2''$", "$y_3''$"
 #: Mathtext of the setting parameters, in the order titles list them.
 SETTING_SYMBOLS = {"y2": "$y_2''$", "y3": "$y_3''$", "dy": r"$\Delta y$", "dt": r"$\Delta t$", "w": "$w$",
@@ -326,12 +324,6 @@ def special_handle(kind: str, label: str | None = None) -> Patch:
     facecolor = "white" if encoding["facecolor"] == "none" else encoding["facecolor"]
     return Patch(facecolor=facecolor, edgecolor="k", hatch=encoding["hatch"], linewidth=0.5,
                  label=encoding["label"] if label is None else label)
-
-
-def hatch_cells(ax, y2, y3, mask, label: str) -> Patch:
-    """Hatch the cells where ``mask[i_y2, i_y3]`` holds (:data:`HATCH`), labelled ``label``:
-    :func:`mark_cells` with the encoding of v' < 0."""
-    return mark_cells(ax, y2, y3, mask, "v_negative", label)
 
 
 #: ASCII spellings of mathematics that figures write in mathtext instead.
