@@ -109,3 +109,13 @@ def test_the_pdf_check_catches_a_poster(tmp_path):
     path = tmp_path / "poster.pdf"
     path.write_bytes(figure_bytes(fig, "pdf", 100))
     assert pdf_problems(path) == ["width 200.0 mm", "fonts of [6.0] pt"]
+
+
+def test_every_caption_states_its_units():
+    """Every figure's caption says that its quantities are dimensionless (Sect. 3.2 of the paper)
+    or that they are in SI units, so a reader of figures/README.md knows what the axes measure."""
+    captions = [p for p in sorted((REPO / "workflow/report").glob("*.rst"))
+                if not p.stem.startswith("table_") and p.stem != "workflow"]
+    assert len(captions) >= 30
+    silent = [p.stem for p in captions if not re.search(r"dimensionless|\bSI\b", p.read_text())]
+    assert silent == []
