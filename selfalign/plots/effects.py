@@ -16,7 +16,7 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Patch
 from matplotlib.ticker import LogLocator
 
-from .accumulation import accumulation_classes
+from .accumulation import ACCUMULATION_CLASSES, NOT_REACHED_LABEL, accumulation_classes
 from .style import (
     FRACTION_COLORS,
     LINE_COLORS,
@@ -31,12 +31,6 @@ from .style import (
 
 #: Colours of the swept settings of the line panels.
 SETTING_COLORS = LINE_COLORS
-#: Legend labels of the three classes of the fraction of entries that accumulate (shown only
-#: where every entry ends at rest).
-ACCUMULATE_LABELS = ("none accumulates, all come to rest", "some accumulate, the rest come to rest",
-                     "all accumulate")
-#: Legend label of the cells left white in a map of the stop zone.
-NOT_REACHED_LABEL = "white: the mass never reaches the zone"
 
 
 def accumulation_panel(ax, y2, y3, frac_accumulate, unsettled, no_profile=None) -> list:
@@ -49,9 +43,8 @@ def accumulation_panel(ax, y2, y3, frac_accumulate, unsettled, no_profile=None) 
     map_mesh(ax, y2, y3, np.where(unsettled, np.nan, accumulation_classes(frac_accumulate)), cmap=cmap,
              norm=BoundaryNorm(np.arange(-0.5, len(FRACTION_COLORS)), cmap.N))
     classes = [Patch(facecolor=c, edgecolor="k", linewidth=0.5, label=label)
-               for c, label in zip(FRACTION_COLORS, ACCUMULATE_LABELS)]
-    handles = classes + [mark_cells(ax, y2, y3, unsettled, "unsettled", "not every entry stops (some never stop "
-                                    "or stay undecided)"),
+               for c, label in zip(FRACTION_COLORS, ACCUMULATION_CLASSES)]
+    handles = classes + [mark_cells(ax, y2, y3, unsettled, "unsettled"),
                          Patch(facecolor="white", edgecolor="k", linewidth=0.5, label=NOT_REACHED_LABEL)]
     if no_profile is not None:
         handles.append(mark_cells(ax, y2, y3, no_profile, "non_physical"))
