@@ -123,7 +123,7 @@ def test_malformed_scene_stops_before_any_job(workdir, old, new, key):
 
 
 @pytest.mark.parametrize("old, new, keys", [
-    ("dpi: 150", "dpi: -150", ("figures.dpi", "['figures']['dpi']")),
+    ("dpi: 300", "dpi: -300", ("figures.dpi", "['figures']['dpi']")),
     ("scenes_dir: workflow/scenes", "scenez_dir: workflow/scenes", ("scenez_dir",)),
 ])
 def test_malformed_config_stops_before_any_job(workdir, old, new, keys):

@@ -71,7 +71,8 @@ def test_trajectory_stage_end_to_end(workdir):
     assert rc == 0 and NOTHING_TO_DO in out, out
 
     config = workdir / "workflow/config/config.yaml"
-    config.write_text(config.read_text().replace("dpi: 150", "dpi: 80"))
+    assert "dpi: 300" in config.read_text()
+    config.write_text(config.read_text().replace("dpi: 300", "dpi: 80"))
     rc, out = snakemake(workdir, "-n", "-c1", *targets)
     assert rc == 0 and "plot_fig07" in out and "sample_trajectory" not in out, out
 
