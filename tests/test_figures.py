@@ -221,18 +221,32 @@ CHANGE_SHOWS_IN = {"fig04": "figure.axes[0].lines[0].y", "fig05": "figure.axes[0
                    "fig11": "figure.axes[0].collections[0].array"}
 
 
+@pytest.fixture(scope="module")
+def classification_figure(repo, tmp_path_factory):
+    """Figure name -> the figure as :func:`build_classification_figure` draws it from fresh data,
+    built once per module: the tests that take it only read it."""
+    built = {}
+
+    def get(name):
+        if name not in built:
+            built[name] = build_classification_figure(name, repo, tmp_path_factory.mktemp(name))
+        return built[name]
+
+    return get
+
+
 @pytest.mark.parametrize("name", CLASSIFICATION_FIGURES)
-def test_classification_figure_data_matches_reference(name, repo, tmp_path, update_figure_refs, dpi):
+def test_classification_figure_data_matches_reference(name, repo, classification_figure, update_figure_refs, dpi):
     """Figs. 4, 5 (Sect. 4.4.1), 8 (Sect. 5.1) and 10, 11 (Sect. 5.2) show the same numbers as
     the committed references, rtol 1e-9."""
-    assert_data_matches(repo, build_classification_figure(name, repo, tmp_path), name,
+    assert_data_matches(repo, classification_figure(name), name,
                         update_figure_refs, dpi)
 
 
 @pytest.mark.parametrize("name", CLASSIFICATION_FIGURES)
-def test_classification_figure_pixels_match_committed_png(name, repo, tmp_path, dpi):
+def test_classification_figure_pixels_match_committed_png(name, repo, classification_figure, tmp_path, dpi):
     """The committed figures/<fig>.png is what the current code draws (RMS <= 1 of 255)."""
-    assert_pixels_match(repo, build_classification_figure(name, repo, tmp_path), name, tmp_path, dpi)
+    assert_pixels_match(repo, classification_figure(name), name, tmp_path, dpi)
 
 
 @pytest.mark.parametrize("name", CLASSIFICATION_FIGURES)
@@ -324,12 +338,12 @@ def closed_form_map(repo, name):
 
 
 @pytest.mark.parametrize("name", CLASSIFICATION_FIGURES)
-def test_classification_figures_meet_the_print_standard(name, repo, tmp_path):
+def test_classification_figures_meet_the_print_standard(name, classification_figure):
     """Figs. 4, 5, 8, 10 and 11 are one or two columns wide, no text below 7 pt, no title but
     panel letters, no ASCII mathematics (selfalign.plots.style.print_check)."""
     from selfalign.plots.style import print_check
 
-    assert print_check(build_classification_figure(name, repo, tmp_path)) == []
+    assert print_check(classification_figure(name)) == []
 
 
 def test_fig11_draws_pure_stick_as_infinite_not_as_a_large_f(repo):
@@ -411,14 +425,14 @@ def test_fig10_magnifies_the_few_backward_cells(repo):
 
 
 @pytest.mark.parametrize("name", ["fig04", "fig05"])
-def test_sweep_differences_at_rounding_level_are_drawn_on_the_floor(name, repo, tmp_path):
+def test_sweep_differences_at_rounding_level_are_drawn_on_the_floor(name, classification_figure):
     """Figs. 4, 5 (b): where time-stepping lands on the exact steady motion the relative
     difference of f is rounding (1e-13 .. 1e-11, captions); such points are drawn as triangles on
     the floor 1e-6 of the axis, the others at their values above it, so no point lies outside
     the axis and none is hidden."""
     from selfalign.plots.classification import ROUNDING_FLOOR
 
-    fig = build_classification_figure(name, repo, tmp_path)
+    fig = classification_figure(name)
     ax = fig.axes[1]
     above, floor = ax.lines[0].get_ydata(), ax.lines[1].get_ydata()
     assert np.all(above >= ROUNDING_FLOOR) and np.all(floor == ROUNDING_FLOOR)
