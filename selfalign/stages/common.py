@@ -19,17 +19,17 @@ from ..io.hdf5 import atomic_write
 from ..plots.encode import figure_bytes
 from ..plots.style import DPI, print_check
 
-#: Resolution of figures written by :func:`save_figure` unless the workflow config says otherwise.
-DEFAULT_DPI = DPI
 
-
-def save_figure(fig, path, dpi: int = DEFAULT_DPI) -> Path:
+def save_figure(fig, path, dpi: int = DPI) -> Path:
     """Write ``fig`` atomically in the format of the suffix of ``path`` (png, pdf or svg;
     :func:`selfalign.plots.encode.figure_bytes`: the same drawing gives the same bytes).
 
     A figure that does not meet the figure standard (:func:`selfalign.plots.style.print_check`:
     print width, fonts at print size, no titles but panel letters) is refused with a
-    ValueError naming every problem, before anything is written."""
+    ValueError naming every problem, before anything is written.  The check draws the figure
+    at its own resolution, so every file starts from the same laid-out state whichever format
+    was written before it (constrained layout settles slightly differently after a draw at
+    the PNG's resolution)."""
     problems = print_check(fig)
     if problems:
         raise ValueError(f"{Path(path).name} does not meet the figure standard: " + "; ".join(problems))
