@@ -16,7 +16,7 @@ import re
 import textwrap
 
 import numpy as np
-from matplotlib.colors import LogNorm, to_rgb
+from matplotlib.colors import LogNorm
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch, Rectangle
 from matplotlib.ticker import NullFormatter
@@ -31,6 +31,7 @@ from .style import (
     SMALL_FONT_SIZE,
     case_map,
     cell_edges,
+    ink,
     map_mesh,
     mark_cells,
     new_figure,
@@ -264,7 +265,7 @@ def decision_tree(fig, tree=DECISION_TREE, width: int = 17):
             style = {"boxstyle": "round4,pad=0.3", "facecolor": CASE_COLORS[attrs["case"]], "edgecolor": "k",
                      "linewidth": 0.6}
         boxes[node_id] = ax.text(x, -depth, text, ha="center", va="center", fontsize=SMALL_FONT_SIZE, bbox=style,
-                                 zorder=3, color=_ink(style["facecolor"]))
+                                 zorder=3, color=ink(style["facecolor"]))
     for parent, child, label in tree.edges():
         (x0, d0), (x1, d1) = pos[parent], pos[child]
         ax.annotate("", xy=(x1, -d1), xytext=(x0, -d0),
@@ -289,12 +290,6 @@ def decision_tree(fig, tree=DECISION_TREE, width: int = 17):
     # The lowest leaves are at the left (yes first), so the notes go to the bottom right.
     ax.text(0.995, 0.0, "\n".join(notes), fontsize=SMALL_FONT_SIZE, va="bottom", ha="right", transform=ax.transAxes)
     return fig
-
-
-def _ink(colour) -> str:
-    """Black or white, whichever reads better on ``colour`` (by its luma)."""
-    r, g, b = to_rgb(colour)
-    return "k" if 0.299 * r + 0.587 * g + 0.114 * b > 0.5 else "w"
 
 
 @styled

@@ -263,6 +263,29 @@ def case_map(ax, y2, y3, case):
     return mesh
 
 
+def ink(colour) -> str:
+    """Black or white, whichever reads better on ``colour`` (by its luma).
+
+    Parameters
+    ----------
+    colour : matplotlib colour
+
+    Returns
+    -------
+    str
+        ``"k"`` or ``"w"``.
+
+    Examples
+    --------
+    >>> ink(CASE_COLORS[3]), ink(CASE_COLORS[5])
+    ('k', 'w')
+    """
+    from matplotlib.colors import to_rgb
+
+    r, g, b = to_rgb(colour)
+    return "k" if 0.299 * r + 0.587 * g + 0.114 * b > 0.5 else "w"
+
+
 def label_regions(ax, y2, y3, codes, labels: dict, colors: dict, min_cells: int = 6):
     """Write ``labels[code]`` on the map, once per code, at the cell deepest inside the code's
     cells (the last to go when they are eroded one cell at a time, the one nearest their middle),
@@ -270,8 +293,6 @@ def label_regions(ax, y2, y3, codes, labels: dict, colors: dict, min_cells: int 
     cells are left to the colour bar.
 
     Returns the Text artists drawn."""
-    from matplotlib.colors import to_rgb
-
     codes = np.asarray(codes, dtype=float)
     texts = []
     for code, label in labels.items():
@@ -287,9 +308,7 @@ def label_regions(ax, y2, y3, codes, labels: dict, colors: dict, min_cells: int 
             inside = core
         cells = np.argwhere(inside)
         i, j = cells[np.argmin(np.sum((cells - cells.mean(axis=0)) ** 2, axis=1))]
-        r, g, b = to_rgb(colors[code])
-        ink = "k" if 0.299 * r + 0.587 * g + 0.114 * b > 0.5 else "w"
-        texts.append(ax.text(y2[i], y3[j], label, ha="center", va="center", color=ink,
+        texts.append(ax.text(y2[i], y3[j], label, ha="center", va="center", color=ink(colors[code]),
                              fontsize=SMALL_FONT_SIZE, fontweight="bold"))
     return texts
 
