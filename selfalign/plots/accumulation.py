@@ -46,7 +46,6 @@ ENTRY_STYLES = ("-", "--")
 #: Fig. 17 c for settings where every entry ends at rest: how many entries accumulate, in the
 #: three fraction classes of the figure standard (style.FRACTION_COLORS: none, some, all).
 ACCUMULATION_CLASSES = ("none accumulate", "some accumulate", "all accumulate")
-ACCUMULATION_COLORS = FRACTION_COLORS
 #: Legend texts of the cells of Fig. 17 c and d that show no class or no Delta x_d.
 UNSETTLED_LABEL = r"not every entry stops: no $\Delta x_d$"
 NOT_REACHED_LABEL = "white: the mass never reaches the zone"
@@ -285,6 +284,21 @@ def accumulation_classes(frac_accumulate):
     return np.where(np.isnan(frac_accumulate), np.nan, code)
 
 
+def accumulation_mesh(ax, y2, y3, frac_accumulate, unsettled):
+    """How many entries accumulate (:func:`accumulation_classes`) over (y2'', y3'') in the three
+    fraction classes of the figure standard, where every entry ends at rest; blank in the
+    ``unsettled`` cells (some entry never stops or stays undecided) and where the mass never
+    reaches the zone.  Returns the QuadMesh (for a colour bar of the classes)."""
+    cmap = ListedColormap(FRACTION_COLORS)
+    return map_mesh(ax, y2, y3, np.where(unsettled, np.nan, accumulation_classes(frac_accumulate)), cmap=cmap,
+                    norm=BoundaryNorm(np.arange(-0.5, len(FRACTION_COLORS)), cmap.N))
+
+
+def not_reached_handle() -> Patch:
+    """The legend entry of the white cells of a stop-zone map: the mass never reaches the zone."""
+    return Patch(facecolor="white", edgecolor="k", linewidth=0.5, label=NOT_REACHED_LABEL)
+
+
 def positioning_error_panel(ax, y2, y3, dx_d, unsettled):
     """Fig. 17 d: the positioning error Delta x_d (eq. 39) over (y2'', y3'').
 
@@ -370,14 +384,12 @@ def fig17_panels(fig, y2, y3, f, vbar, case, frac_accumulate, unsettled, dx_d, f
     handles = objective_panel(axes[0], y2, y3, f, vbar, f_max)
     case_map(axes[1], y2, y3, case)
     mean_velocity_zero_line(axes[1], y2, y3, vbar)
-    cmap = ListedColormap(ACCUMULATION_COLORS)
-    classes = map_mesh(axes[2], y2, y3, np.where(unsettled, np.nan, accumulation_classes(frac_accumulate)),
-                       cmap=cmap, norm=BoundaryNorm(np.arange(-0.5, len(ACCUMULATION_COLORS)), cmap.N))
+    classes = accumulation_mesh(axes[2], y2, y3, frac_accumulate, unsettled)
     bar = fig.colorbar(classes, ax=axes[2], ticks=range(len(ACCUMULATION_CLASSES)))
     bar.ax.set_yticklabels(ACCUMULATION_CLASSES)
     unsettled_handle = mark_cells(axes[2], y2, y3, unsettled, "unsettled", UNSETTLED_LABEL)
     zero_handle, _ = positioning_error_panel(axes[3], y2, y3, dx_d, unsettled)
-    not_reached = Patch(facecolor="white", edgecolor="k", linewidth=0.5, label=NOT_REACHED_LABEL)
+    not_reached = not_reached_handle()
     if mark is not None:
         y2_mark, y3_mark, label = mark
         for ax in axes:

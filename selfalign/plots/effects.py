@@ -11,17 +11,15 @@ maps show the fraction of entries that accumulate as the three classes of the fi
 from __future__ import annotations
 
 import numpy as np
-from matplotlib.colors import BoundaryNorm, ListedColormap
 from matplotlib.figure import Figure
 from matplotlib.patches import Patch
 from matplotlib.ticker import LogLocator
 
-from .accumulation import ACCUMULATION_CLASSES, NOT_REACHED_LABEL, accumulation_classes
+from .accumulation import ACCUMULATION_CLASSES, accumulation_mesh, not_reached_handle
 from .style import (
     FRACTION_COLORS,
     LINE_COLORS,
     SMALL_FONT_SIZE,
-    map_mesh,
     mark_cells,
     new_figure,
     panel_letters,
@@ -38,14 +36,11 @@ def accumulation_panel(ax, y2, y3, frac_accumulate, unsettled, no_profile=None) 
     entry ends at rest; ``unsettled`` cells (some entry never stops or stays undecided) and
     ``no_profile`` cells (case 0; None: not marked) in their encodings; white where the mass never
     reaches the zone.  Returns the legend handles."""
-    cmap = ListedColormap(FRACTION_COLORS)
     unsettled = np.asarray(unsettled, dtype=bool)
-    map_mesh(ax, y2, y3, np.where(unsettled, np.nan, accumulation_classes(frac_accumulate)), cmap=cmap,
-             norm=BoundaryNorm(np.arange(-0.5, len(FRACTION_COLORS)), cmap.N))
+    accumulation_mesh(ax, y2, y3, frac_accumulate, unsettled)
     classes = [Patch(facecolor=c, edgecolor="k", linewidth=0.5, label=label)
                for c, label in zip(FRACTION_COLORS, ACCUMULATION_CLASSES)]
-    handles = classes + [mark_cells(ax, y2, y3, unsettled, "unsettled"),
-                         Patch(facecolor="white", edgecolor="k", linewidth=0.5, label=NOT_REACHED_LABEL)]
+    handles = classes + [mark_cells(ax, y2, y3, unsettled, "unsettled"), not_reached_handle()]
     if no_profile is not None:
         handles.append(mark_cells(ax, y2, y3, no_profile, "non_physical"))
     return handles
