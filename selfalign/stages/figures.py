@@ -21,6 +21,7 @@ from ..analysis.finite_jerk import RAMPS_TOO_LONG, jerk_profile
 from ..analysis.steady_state import monodromy_grid
 from ..io.simulation_result import scene_from_result
 from ..model.friction import StopZone
+from ..model.profiles import PiecewiseLinearProfile
 from ..plots.accumulation import figure_02, figure_14, figure_15, figure_16, figure_17, figure_18
 from ..plots.annotate import overshoot_dimensions
 from ..plots.classification import figure_04, figure_05, figure_06, figure_08, figure_map
@@ -44,7 +45,7 @@ def accuracy_figure(scene) -> str:
     """The work-precision figure that draws the accuracy study of ``scene``, by family of scenes:
     ``accuracy_parts`` (several parts), ``accuracy_planar`` (planar motion), ``accuracy_effects``
     (one part under an effect beyond the paper's model: a friction law other than Coulomb's, or
-    finite jerk) or ``accuracy_cost`` (the paper's model).
+    finite jerk, i.e. a piecewise-linear y'') or ``accuracy_cost`` (the paper's model).
 
     Parameters
     ----------
@@ -67,8 +68,7 @@ def accuracy_figure(scene) -> str:
         return "accuracy_parts"
     if scene.planar:
         return "accuracy_planar"
-    profile = scene.profile.params()
-    if scene.friction.kind != "coulomb" or "ramp" in profile or "jerk" in profile:
+    if scene.friction.kind != "coulomb" or isinstance(scene.profile, PiecewiseLinearProfile):
         return "accuracy_effects"
     return "accuracy_cost"
 
